@@ -1,0 +1,54 @@
+#pragma once
+
+#include <cstdint>
+
+namespace sg {
+
+/// Hard upper bound of BuildConfig::max_depth; it sizes the traverser's fixed stack.
+inline constexpr std::uint32_t max_supported_depth = 64;
+
+/// Every parameter of the Split Grid builder. Flags of sg-build and sg-bench map one-to-one
+/// onto these fields (`--leaf-size` sets leaf_size, and so on). validate() names the field,
+/// the value and the valid range of the first bad field.
+///
+/// The resolution of a node with n triangles is (see resolution.hpp)
+///   N(n) = round(resolution_min + (resolution_max - resolution_min)
+///                 * (1 - exp(-(n / resolution_sigma)^2 / 2)))
+/// a Gaussian bell turned upside down: few cells when n is small (near the leaves), rising
+/// smoothly to resolution_max once n is a few sigma (near the root).
+struct BuildConfig {
+    /// Fewest cells of an inner node. Range [1, resolution_max]. 2 makes the small nodes
+    /// near the leaves binary splits, which the poster describes as "coarse splits".
+    std::uint32_t resolution_min = 2;
+    /// Most cells of an inner node. Range [max(2, resolution_min), 2^20]. Reached by nodes with
+    /// several resolution_sigma triangles; 64 keeps a node's cells within 512 bytes.
+    std::uint32_t resolution_max = 64;
+    /// Width of the Gaussian, in triangles. Range (0, 1e9]. At n = sigma the resolution is
+    /// 39% of the way from min to max, at n = 2 sigma 86%, at n = 3 sigma 99%.
+    double resolution_sigma = 48.0;
+    /// A cell with at most this many triangles becomes a leaf. Range [1, 2^20].
+    std::uint32_t leaf_size = 4;
+    /// Deepest inner node (the root is depth 0); cells of a node at this depth become leaves.
+    /// Range [0, 64]; 64 also bounds the traversal stack.
+    std::uint32_t max_depth = 32;
+    /// A split makes no progress when two or more cells, or every non-empty cell, would
+    /// receive more than this fraction of the node's triangles (triangles sharing a vertex,
+    /// copies of one triangle, long strips along the axis). Such a split is retried on the
+    /// other axes, by decreasing extent, before the node becomes a leaf. Range (0, 1].
+    double no_progress_fraction = 0.9;
+    /// A cell that receives every triangle of its node, for this many levels in a row,
+    /// becomes a leaf. Triangles sharing a vertex (a fan) can never be separated, and would
+    /// otherwise be split down to max_depth. Range [1, 64]; 3 lets each axis try once.
+    std::uint32_t stall_limit = 3;
+    /// Worker threads for the build; 0 means all hardware threads. Range [0, 1024]. The
+    /// output is bit-identical for every value.
+    std::uint32_t threads = 0;
+
+    friend constexpr bool operator==(const BuildConfig&, const BuildConfig&) = default;
+};
+
+/// Throws ConfigError naming the first field outside its range, e.g.
+/// "BuildConfig.leaf_size = 0 is out of range [1, 1048576]".
+void validate(const BuildConfig& config);
+
+}  // namespace sg

@@ -1,0 +1,38 @@
+#pragma once
+
+#include <functional>
+
+#include "splitgrid/build_config.hpp"
+#include "splitgrid/mesh.hpp"
+#include "splitgrid/split_grid.hpp"
+
+namespace sg {
+
+/// Progress callback: fraction of triangles placed in final leaves so far, in [0, 1].
+/// Called from the building thread(s) under a lock, at most a few hundred times per build.
+using BuildProgress = std::function<void(double fraction_done)>;
+
+/// Builds a Split Grid over `mesh` (DESIGN.md section 1, BuildConfig for the parameters).
+///
+/// - Each node splits the longest axis of the tight box of its triangles clipped to the
+///   node's box (the poster says "longest axis of the node's box"; the tight box avoids
+///   splitting an axis along which everything is flat or empty).
+/// - The bounding planes lo, hi are the extent of those clipped triangles on the split axis.
+/// - A triangle is referenced by every cell whose box, padded by `boundary_pad(grid)`, its
+///   exact (double-precision Sutherland-Hodgman) clipped polygon touches.
+/// - Parallel on oneTBB with config.threads workers; the result is bit-identical for every
+///   thread count.
+///
+/// Preconditions: check_mesh(mesh) passes (throws InputError otherwise); validate(config)
+/// passes (throws ConfigError). Zero-area triangles are allowed but never referenced by
+/// more cells than they touch. An empty mesh gives a grid with an empty root.
+[[nodiscard]] SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
+                                         const BuildProgress& progress = {});
+
+/// Absolute padding (scene units) added around every cell box when the builder decides which
+/// triangles a cell references: 2^-17 times the largest coordinate magnitude of the root box
+/// (64 float ulps). It absorbs the rounding of the watertight test, which may report a hit a
+/// few ulps outside a triangle's true extent.
+[[nodiscard]] float boundary_pad(const Aabb& root_box) noexcept;
+
+}  // namespace sg

@@ -1,0 +1,363 @@
+#include "splitgrid/builder.hpp"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
+
+#include "splitgrid/cell_math.hpp"
+#include "splitgrid/clip.hpp"
+#include "splitgrid/error.hpp"
+#include "splitgrid/resolution.hpp"
+
+namespace sg {
+namespace {
+
+// Nodes with fewer triangles than this do their per-triangle work serially: below it the
+// task overhead outweighs the work.
+constexpr std::size_t parallel_grain = 4096;
+
+// Rounds a double to the nearest float that is not above (below) it, so float boxes made
+// from double clipping results still contain them.
+float round_down(double x) noexcept
+{
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+float round_up(double x) noexcept
+{
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+}
+
+// Clipped extent of one triangle inside a node box, in floats rounded outward.
+struct TriExtent {
+    Vec3f lower;
+    Vec3f upper;
+    bool is_empty = false;
+};
+
+// A candidate split of a node: axis, bounding planes, resolution and each triangle's cells.
+struct Split {
+    int axis = 0;
+    float lo = 0.0f;
+    float hi = 0.0f;
+    std::uint32_t resolution = 0;
+    std::vector<std::uint32_t> first;   // first cell of each triangle
+    std::vector<std::uint32_t> last;    // last cell of each triangle (< first: none)
+    std::vector<std::uint32_t> counts;  // triangles per cell
+};
+
+// The tree as the recursive build makes it; flattened into SplitGrid arrays afterwards, in a
+// fixed order, which is what makes the output independent of the thread count.
+struct BuiltNode;
+struct BuiltCell {
+    CellKind kind = CellKind::Empty;
+    std::vector<std::uint32_t> triangles;  // leaf
+    std::unique_ptr<BuiltNode> node;       // inner
+};
+struct BuiltNode {
+    int axis = 0;
+    float lo = 0.0f;
+    float hi = 0.0f;
+    std::vector<BuiltCell> cells;
+};
+
+class Builder {
+public:
+    Builder(const MeshView& mesh, const BuildConfig& config, const BuildProgress& progress,
+            float pad)
+        : mesh_(mesh), config_(config), progress_(progress), pad_(pad)
+    {
+    }
+
+    // Builds the cell covering `box` for the triangles `tris` (all known to touch the padded
+    // box), as a node at `depth`, or a leaf when splitting does not pay. `stalled` counts the
+    // levels in a row at whose end this cell still had all of its ancestor's triangles;
+    // `weight` is this cell's share of the whole build, for progress reports.
+    BuiltCell build_cell(const Aabb& box, std::vector<std::uint32_t> tris, std::uint32_t depth,
+                         std::uint32_t stalled, double weight)
+    {
+        BuiltCell cell;
+        if (tris.empty()) return cell;
+        if (tris.size() <= config_.leaf_size || depth > config_.max_depth ||
+            stalled >= config_.stall_limit)
+            return make_leaf(std::move(tris), weight);
+
+        const std::size_t n = tris.size();
+        std::vector<TriExtent> extents(n);
+        const Aabbd clip_box = Aabbd::from(box).padded(pad_);
+        auto clip_range = [&](std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k) extents[k] = clipped_extent(tris[k], clip_box);
+        };
+        run(n, clip_range);
+
+        // Tight box of the clipped triangles (min/max are exact, so any reduction order
+        // gives the same box).
+        const Aabb tight = reduce_box(extents);
+        if (tight.is_empty()) return make_leaf(std::move(tris), weight);
+        // Axes by decreasing extent of the clipped triangles: the longest first, the
+        // others only if it makes no progress.
+        std::array<int, 3> axes{0, 1, 2};
+        std::stable_sort(axes.begin(), axes.end(),
+                         [&](int a, int b) { return tight.extent(a) > tight.extent(b); });
+        Split split;
+        bool found = false;
+        for (int axis : axes) {
+            if (!(tight.extent(axis) > 0.0f)) break;
+            if (try_split(box, tight, axis, tris, extents, split)) {
+                found = true;
+                break;
+            }
+        }
+        if (!found) return make_leaf(std::move(tris), weight);
+        extents = {};
+        const int axis = split.axis;
+        const std::uint32_t resolution = split.resolution;
+        const CellMath cm(split.lo, split.hi, resolution);
+        std::size_t total_refs = 0;
+        for (std::uint32_t c : split.counts) total_refs += c;
+
+        std::vector<std::vector<std::uint32_t>> cell_tris(resolution);
+        for (std::uint32_t c = 0; c < resolution; ++c) cell_tris[c].reserve(split.counts[c]);
+        for (std::size_t k = 0; k < n; ++k)
+            for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c)
+                cell_tris[c].push_back(tris[k]);
+        tris = {};
+        split = {};
+
+        auto node = std::make_unique<BuiltNode>();
+        node->axis = axis;
+        node->lo = cm.lo;
+        node->hi = cm.hi;
+        node->cells.resize(resolution);
+        auto build_children = [&](std::size_t begin, std::size_t end) {
+            for (std::size_t c = begin; c < end; ++c) {
+                Aabb child = box;
+                child.lower[axis] = cm.boundary(static_cast<std::uint32_t>(c));
+                child.upper[axis] = cm.boundary(static_cast<std::uint32_t>(c) + 1);
+                const double share = weight * static_cast<double>(cell_tris[c].size()) /
+                                     static_cast<double>(total_refs);
+                const std::uint32_t child_stalled = cell_tris[c].size() == n ? stalled + 1 : 0;
+                node->cells[c] =
+                    build_cell(child, std::move(cell_tris[c]), depth + 1, child_stalled, share);
+            }
+        };
+        if (n >= parallel_grain)
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, resolution, 1),
+                              [&](const tbb::blocked_range<std::size_t>& r) {
+                                  build_children(r.begin(), r.end());
+                              });
+        else
+            build_children(0, resolution);
+        cell.kind = CellKind::Inner;
+        cell.node = std::move(node);
+        return cell;
+    }
+
+private:
+    // Fills `split` for `axis` and says whether it makes progress (BuildConfig's
+    // no_progress_fraction).
+    bool try_split(const Aabb& box, const Aabb& tight, int axis,
+                   const std::vector<std::uint32_t>& tris, const std::vector<TriExtent>& extents,
+                   Split& split) const
+    {
+        const std::size_t n = tris.size();
+        // Bounding planes: the tight extent widened by the pad (so points a few ulps off a
+        // triangle stay inside), kept within the node's box.
+        split.axis = axis;
+        split.lo = std::max(box.lower[axis], tight.lower[axis] - pad_);
+        split.hi = std::max(split.lo, std::min(box.upper[axis], tight.upper[axis] + pad_));
+        split.resolution = node_resolution(config_, n);
+        if (split.resolution < 2) return false;
+        const CellMath cm(split.lo, split.hi, split.resolution);
+
+        // Cell range of each triangle: the cells whose padded slab its clipped extent touches.
+        split.first.assign(n, 1);
+        split.last.assign(n, 0);
+        run(n, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k) {
+                if (extents[k].is_empty) continue;
+                split.first[k] = cm.locate_lowest(extents[k].lower[axis] - pad_);
+                split.last[k] = cm.locate_highest(extents[k].upper[axis] + pad_);
+            }
+        });
+        split.counts.assign(split.resolution, 0);
+        for (std::size_t k = 0; k < n; ++k)
+            for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c) ++split.counts[c];
+
+        // Progress by counts: at most one cell may keep nearly everything, and not all.
+        const double heavy_limit = config_.no_progress_fraction * static_cast<double>(n);
+        std::size_t heavy = 0, nonempty = 0;
+        for (std::uint32_t c : split.counts) {
+            nonempty += c > 0 ? 1 : 0;
+            heavy += static_cast<double>(c) > heavy_limit ? 1 : 0;
+        }
+        if (nonempty == 0 || heavy >= 2 || heavy == nonempty) return false;
+        return true;
+    }
+
+    template <class F>
+    void run(std::size_t n, const F& body) const
+    {
+        if (n < parallel_grain) {
+            body(0, n);
+            return;
+        }
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, parallel_grain / 4),
+                          [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+    }
+
+    TriExtent clipped_extent(std::uint32_t tri, const Aabbd& clip_box) const noexcept
+    {
+        const Vec3d a(mesh_.vertex(tri, 0));
+        const Vec3d b(mesh_.vertex(tri, 1));
+        const Vec3d c(mesh_.vertex(tri, 2));
+        Aabbd clipped;
+        TriExtent e;
+        if (!clip_triangle_bounds(a, b, c, clip_box, clipped)) {
+            e.is_empty = true;
+            return e;
+        }
+        for (int k = 0; k < 3; ++k) {
+            e.lower[k] = round_down(clipped.lower[k]);
+            e.upper[k] = round_up(clipped.upper[k]);
+        }
+        return e;
+    }
+
+    static Aabb reduce_box(const std::vector<TriExtent>& extents)
+    {
+        auto body = [&](const tbb::blocked_range<std::size_t>& r, Aabb box) {
+            for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                if (extents[k].is_empty) continue;
+                box.extend(extents[k].lower);
+                box.extend(extents[k].upper);
+            }
+            return box;
+        };
+        const tbb::blocked_range<std::size_t> all(0, extents.size(), parallel_grain);
+        if (extents.size() < parallel_grain) return body(all, Aabb{});
+        return tbb::parallel_reduce(all, Aabb{}, body, [](Aabb a, const Aabb& b) {
+            a.extend(b);
+            return a;
+        });
+    }
+
+    BuiltCell make_leaf(std::vector<std::uint32_t> tris, double weight)
+    {
+        BuiltCell cell;
+        cell.kind = CellKind::Leaf;
+        cell.triangles = std::move(tris);
+        report(weight);
+        return cell;
+    }
+
+    void report(double weight)
+    {
+        if (!progress_) return;
+        const std::lock_guard<std::mutex> lock(progress_mutex_);
+        done_ += weight;
+        if (done_ - last_reported_ >= 0.005 || done_ >= 1.0 - 1e-9) {
+            last_reported_ = done_;
+            progress_(std::min(1.0, done_));
+        }
+    }
+
+    const MeshView& mesh_;
+    const BuildConfig& config_;
+    const BuildProgress& progress_;
+    const float pad_;
+    std::mutex progress_mutex_;
+    double done_ = 0.0;
+    double last_reported_ = 0.0;
+};
+
+// Depth-first pre-order: a node's record, then its cells as one block, then its children.
+CellRef flatten(BuiltCell& cell, SplitGrid& grid)
+{
+    switch (cell.kind) {
+    case CellKind::Empty:
+        return CellRef::make_empty();
+    case CellKind::Leaf: {
+        if (grid.triangle_refs.size() + cell.triangles.size() >= CellRef::inner_tag)
+            throw InputError("Split Grid too large: more than 2^32 - 2 triangle references");
+        const auto first = static_cast<std::uint32_t>(grid.triangle_refs.size());
+        grid.triangle_refs.insert(grid.triangle_refs.end(), cell.triangles.begin(),
+                                  cell.triangles.end());
+        cell.triangles = {};
+        return CellRef::make_leaf(first, static_cast<std::uint32_t>(grid.triangle_refs.size() - first));
+    }
+    case CellKind::Inner:
+        break;
+    }
+    BuiltNode& node = *cell.node;
+    if (grid.nodes.size() >= CellRef::inner_tag ||
+        grid.cells.size() + node.cells.size() >= CellRef::inner_tag)
+        throw InputError("Split Grid too large: more than 2^32 - 2 nodes or cells");
+    const auto index = static_cast<std::uint32_t>(grid.nodes.size());
+    const auto first_cell = static_cast<std::uint32_t>(grid.cells.size());
+    grid.nodes.push_back(GridNode::make(node.axis, node.lo, node.hi,
+                                        static_cast<std::uint32_t>(node.cells.size()), first_cell));
+    grid.cells.resize(grid.cells.size() + node.cells.size());
+    for (std::size_t c = 0; c < node.cells.size(); ++c)
+        grid.cells[first_cell + c] = flatten(node.cells[c], grid);
+    cell.node.reset();
+    return CellRef::make_inner(index);
+}
+
+}  // namespace
+
+float boundary_pad(const Aabb& root_box) noexcept
+{
+    float magnitude = 0.0f;
+    for (int k = 0; k < 3; ++k)
+        magnitude = std::max({magnitude, std::abs(root_box.lower[k]), std::abs(root_box.upper[k])});
+    // Never below a normal float, so the pad survives being added to coordinates near zero.
+    return std::max(magnitude * 0x1p-17f, std::numeric_limits<float>::min() * 64.0f);
+}
+
+SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
+                           const BuildProgress& progress)
+{
+    validate(config);
+    check_mesh(mesh);
+    if (mesh.triangle_count() >= CellRef::inner_tag)
+        throw InputError("mesh has more than 2^32 - 2 triangles");
+
+    SplitGrid grid;
+    grid.config = config;
+    grid.triangle_count = static_cast<std::uint32_t>(mesh.triangle_count());
+    if (mesh.triangle_count() == 0) return grid;
+
+    const Aabb scene = bounds(mesh);
+    const float pad = boundary_pad(scene);
+    grid.root_box = scene;
+    for (int k = 0; k < 3; ++k) {
+        grid.root_box.lower[k] = scene.lower[k] - pad;
+        grid.root_box.upper[k] = scene.upper[k] + pad;
+    }
+
+    std::vector<std::uint32_t> all(mesh.triangle_count());
+    for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<std::uint32_t>(k);
+
+    Builder builder(mesh, config, progress, pad);
+    tbb::task_arena arena(config.threads == 0 ? tbb::task_arena::automatic
+                                              : static_cast<int>(config.threads));
+    BuiltCell root;
+    arena.execute([&] { root = builder.build_cell(grid.root_box, std::move(all), 0, 0, 1.0); });
+    grid.root = flatten(root, grid);
+    return grid;
+}
+
+}  // namespace sg

@@ -1,0 +1,134 @@
+#include "splitgrid/clip.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace sg {
+namespace {
+
+// A triangle clipped by six planes has at most 3 + 6 vertices.
+constexpr int max_polygon_vertices = 9;
+
+struct Polygon {
+    std::array<Vec3d, max_polygon_vertices + 1> v;
+    int count = 0;
+};
+
+// Keeps the part of `in` with sign * (p[axis] - plane) >= 0. New vertices are placed on the
+// plane exactly, so later clips see the coordinate the plane has, not a rounded neighbour.
+void clip_polygon(const Polygon& in, int axis, double plane, double sign, Polygon& out) noexcept
+{
+    out.count = 0;
+    for (int i = 0; i < in.count; ++i) {
+        const Vec3d& p = in.v[static_cast<std::size_t>(i)];
+        const Vec3d& q = in.v[static_cast<std::size_t>((i + 1) % in.count)];
+        const double dp = sign * (p[axis] - plane);
+        const double dq = sign * (q[axis] - plane);
+        if (dp >= 0.0) out.v[static_cast<std::size_t>(out.count++)] = p;
+        if ((dp >= 0.0) != (dq >= 0.0)) {
+            const double s = dp / (dp - dq);
+            Vec3d x{p.x + (q.x - p.x) * s, p.y + (q.y - p.y) * s, p.z + (q.z - p.z) * s};
+            x[axis] = plane;
+            out.v[static_cast<std::size_t>(out.count++)] = x;
+        }
+        if (out.count > max_polygon_vertices) out.count = max_polygon_vertices;
+    }
+}
+
+}  // namespace
+
+bool clip_triangle_bounds(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box, Aabbd& out) noexcept
+{
+    Aabbd tri{{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})},
+              {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})}};
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) {
+        if (tri.upper[k] < box.lower[k] || tri.lower[k] > box.upper[k]) return false;
+        inside = inside && tri.lower[k] >= box.lower[k] && tri.upper[k] <= box.upper[k];
+    }
+    if (inside) {
+        out = tri;
+        return true;
+    }
+    Polygon poly[2];
+    poly[0].v[0] = a;
+    poly[0].v[1] = b;
+    poly[0].v[2] = c;
+    poly[0].count = 3;
+    int cur = 0;
+    for (int k = 0; k < 3; ++k) {
+        if (tri.lower[k] < box.lower[k]) {
+            clip_polygon(poly[cur], k, box.lower[k], 1.0, poly[1 - cur]);
+            cur = 1 - cur;
+            if (poly[cur].count == 0) return false;
+        }
+        if (tri.upper[k] > box.upper[k]) {
+            clip_polygon(poly[cur], k, box.upper[k], -1.0, poly[1 - cur]);
+            cur = 1 - cur;
+            if (poly[cur].count == 0) return false;
+        }
+    }
+    const Polygon& p = poly[cur];
+    out.lower = out.upper = p.v[0];
+    for (int i = 1; i < p.count; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            out.lower[k] = std::min(out.lower[k], p.v[static_cast<std::size_t>(i)][k]);
+            out.upper[k] = std::max(out.upper[k], p.v[static_cast<std::size_t>(i)][k]);
+        }
+    }
+    // Interpolated points can stray from the box by a rounding error; the result is a subset
+    // of the box by definition.
+    for (int k = 0; k < 3; ++k) {
+        out.lower[k] = std::clamp(out.lower[k], box.lower[k], box.upper[k]);
+        out.upper[k] = std::clamp(out.upper[k], box.lower[k], box.upper[k]);
+    }
+    return true;
+}
+
+bool triangle_overlaps_box(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box) noexcept
+{
+    const Vec3d center{(box.lower.x + box.upper.x) * 0.5, (box.lower.y + box.upper.y) * 0.5,
+                       (box.lower.z + box.upper.z) * 0.5};
+    const Vec3d half{(box.upper.x - box.lower.x) * 0.5, (box.upper.y - box.lower.y) * 0.5,
+                     (box.upper.z - box.lower.z) * 0.5};
+    const std::array<Vec3d, 3> v{Vec3d{a.x - center.x, a.y - center.y, a.z - center.z},
+                                 Vec3d{b.x - center.x, b.y - center.y, b.z - center.z},
+                                 Vec3d{c.x - center.x, c.y - center.y, c.z - center.z}};
+    // Projections of the triangle and the box on `axis`: separated if the intervals are
+    // disjoint. A zero axis (parallel edges, degenerate triangle) separates nothing.
+    auto separated = [&](const Vec3d& axis) {
+        double pmin = std::numeric_limits<double>::infinity();
+        double pmax = -pmin;
+        for (const Vec3d& p : v) {
+            const double d = p.x * axis.x + p.y * axis.y + p.z * axis.z;
+            pmin = std::min(pmin, d);
+            pmax = std::max(pmax, d);
+        }
+        const double r =
+            half.x * std::abs(axis.x) + half.y * std::abs(axis.y) + half.z * std::abs(axis.z);
+        return pmin > r || pmax < -r;
+    };
+    // 1. The box's face normals (the bounding boxes must overlap).
+    for (int k = 0; k < 3; ++k) {
+        Vec3d axis{0, 0, 0};
+        axis[k] = 1.0;
+        if (separated(axis)) return false;
+    }
+    const std::array<Vec3d, 3> e{Vec3d{v[1].x - v[0].x, v[1].y - v[0].y, v[1].z - v[0].z},
+                                 Vec3d{v[2].x - v[1].x, v[2].y - v[1].y, v[2].z - v[1].z},
+                                 Vec3d{v[0].x - v[2].x, v[0].y - v[2].y, v[0].z - v[2].z}};
+    // 2. The triangle's normal.
+    const Vec3d n{e[0].y * e[1].z - e[0].z * e[1].y, e[0].z * e[1].x - e[0].x * e[1].z,
+                  e[0].x * e[1].y - e[0].y * e[1].x};
+    if (separated(n)) return false;
+    // 3. The nine cross products of triangle edges and box axes.
+    for (const Vec3d& edge : e) {
+        if (separated(Vec3d{0.0, -edge.z, edge.y})) return false;  // x cross edge
+        if (separated(Vec3d{edge.z, 0.0, -edge.x})) return false;  // y cross edge
+        if (separated(Vec3d{-edge.y, edge.x, 0.0})) return false;  // z cross edge
+    }
+    return true;
+}
+
+}  // namespace sg

@@ -1,0 +1,207 @@
+#include "splitgrid/validate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "splitgrid/cell_math.hpp"
+#include "splitgrid/clip.hpp"
+#include "splitgrid/error.hpp"
+
+namespace sg {
+namespace {
+
+[[noreturn]] void fail(const std::string& what) { throw FormatError(what); }
+
+std::string node_name(std::uint32_t node) { return "node " + std::to_string(node); }
+
+// Checks one cell record; returns the child node index for inner cells.
+void check_cell(const SplitGrid& grid, const CellRef& cell, const std::string& where,
+                std::uint64_t& refs_seen)
+{
+    if (cell.is_empty()) {
+        if (cell.index() != 0) fail(where + ": empty cell with non-zero index");
+        return;
+    }
+    if (cell.is_inner()) {
+        if (cell.child() >= grid.nodes.size())
+            fail(where + ": child node " + std::to_string(cell.child()) + " out of range (" +
+                 std::to_string(grid.nodes.size()) + " nodes)");
+        return;
+    }
+    const std::uint64_t end = std::uint64_t{cell.first_ref()} + cell.ref_count();
+    if (end > grid.triangle_refs.size())
+        fail(where + ": triangle references " + std::to_string(cell.first_ref()) + ".." +
+             std::to_string(end) + " out of range (" +
+             std::to_string(grid.triangle_refs.size()) + " references)");
+    refs_seen += cell.ref_count();
+}
+
+struct Pending {
+    std::uint32_t node;
+    std::uint32_t depth;
+    Aabb box;
+};
+
+}  // namespace
+
+void check_invariants(const SplitGrid& grid)
+{
+    for (std::size_t r = 0; r < grid.triangle_refs.size(); ++r)
+        if (grid.triangle_refs[r] >= grid.triangle_count)
+            fail("triangle reference " + std::to_string(r) + " names triangle " +
+                 std::to_string(grid.triangle_refs[r]) + " but there are " +
+                 std::to_string(grid.triangle_count) + " triangles");
+
+    if (grid.root.is_empty()) {
+        if (!grid.nodes.empty() || !grid.cells.empty() || !grid.triangle_refs.empty())
+            fail("root cell is empty but the grid has nodes, cells or references");
+        return;
+    }
+    if (!is_finite(grid.root_box.lower) || !is_finite(grid.root_box.upper) ||
+        grid.root_box.is_empty())
+        fail("root box is empty or not finite");
+
+    std::uint64_t refs_seen = 0;
+    check_cell(grid, grid.root, "root cell", refs_seen);
+    std::vector<bool> node_seen(grid.nodes.size(), false);
+    std::uint64_t cells_owned = 0;
+    std::vector<Pending> pending;
+    if (grid.root.is_inner()) pending.push_back({grid.root.child(), 0, grid.root_box});
+    std::size_t nodes_reached = 0;
+    while (!pending.empty()) {
+        const Pending p = pending.back();
+        pending.pop_back();
+        const std::string where = node_name(p.node);
+        if (node_seen[p.node])
+            fail(where + " is the child of more than one cell (a cycle or a shared subtree)");
+        node_seen[p.node] = true;
+        ++nodes_reached;
+        if (p.depth > max_supported_depth)
+            fail(where + " is at depth " + std::to_string(p.depth) + ", deeper than " +
+                 std::to_string(max_supported_depth));
+        const GridNode& node = grid.nodes[p.node];
+        if ((node.axis_res_bits() & 3u) == 3u) fail(where + ": axis 3 is not an axis");
+        const std::uint32_t n = node.resolution();
+        if (n == 0) fail(where + ": resolution 0");
+        const int axis = node.axis();
+        if (!std::isfinite(node.lo) || !std::isfinite(node.hi) || !(node.lo <= node.hi))
+            fail(where + ": bounding planes [" + std::to_string(node.lo) + ", " +
+                 std::to_string(node.hi) + "] are not finite and ordered");
+        if (node.lo < p.box.lower[axis] || node.hi > p.box.upper[axis])
+            fail(where + ": bounding planes [" + std::to_string(node.lo) + ", " +
+                 std::to_string(node.hi) + "] leave the node's box on axis " +
+                 std::to_string(axis));
+        const std::uint64_t end = std::uint64_t{node.first_cell()} + n;
+        if (end > grid.cells.size())
+            fail(where + ": cells " + std::to_string(node.first_cell()) + ".." +
+                 std::to_string(end) + " out of range (" + std::to_string(grid.cells.size()) +
+                 " cells)");
+        cells_owned += n;
+        const CellMath cm(node.lo, node.hi, n);
+        for (std::uint32_t i = 0; i < n; ++i) {
+            const CellRef& cell = grid.cells[node.first_cell() + i];
+            check_cell(grid, cell, where + " cell " + std::to_string(i), refs_seen);
+            if (!cell.is_inner()) continue;
+            Aabb child = p.box;
+            child.lower[axis] = cm.boundary(i);
+            child.upper[axis] = cm.boundary(i + 1);
+            pending.push_back({cell.child(), p.depth + 1, child});
+        }
+    }
+    if (nodes_reached != grid.nodes.size())
+        fail(std::to_string(grid.nodes.size() - nodes_reached) +
+             " nodes are not reachable from the root");
+    if (cells_owned != grid.cells.size())
+        fail("nodes own " + std::to_string(cells_owned) + " cells but the grid has " +
+             std::to_string(grid.cells.size()));
+    if (refs_seen != grid.triangle_refs.size())
+        fail("leaves hold " + std::to_string(refs_seen) + " references but the grid has " +
+             std::to_string(grid.triangle_refs.size()));
+}
+
+namespace {
+
+// Descends from `cell` (covering `box`) through every cell the triangle overlaps.
+void check_triangle(const SplitGrid& grid, std::uint32_t tri, const Vec3d (&v)[3],
+                    const CellRef& cell, const Aabb& box, const std::string& where)
+{
+    if (!triangle_overlaps_box(v[0], v[1], v[2], Aabbd::from(box))) return;
+    const std::string tri_name = "triangle " + std::to_string(tri);
+    if (cell.is_empty()) fail(tri_name + " overlaps " + where + ", which is empty");
+    if (cell.is_leaf()) {
+        const auto first = grid.triangle_refs.begin() + cell.first_ref();
+        const auto last = first + cell.ref_count();
+        if (std::find(first, last, tri) == last)
+            fail(tri_name + " overlaps " + where + " but is not in its leaf");
+        return;
+    }
+    const std::uint32_t index = cell.child();
+    const GridNode& node = grid.nodes[index];
+    const int axis = node.axis();
+    const std::string name = node_name(index);
+    // The space cut away by the bounding planes must not hold any of the triangle.
+    for (int side = 0; side < 2; ++side) {
+        Aabb cut = box;
+        if (side == 0) {
+            if (!(node.lo > box.lower[axis])) continue;
+            cut.upper[axis] = std::nextafter(node.lo, -std::numeric_limits<float>::infinity());
+        } else {
+            if (!(node.hi < box.upper[axis])) continue;
+            cut.lower[axis] = std::nextafter(node.hi, std::numeric_limits<float>::infinity());
+        }
+        if (triangle_overlaps_box(v[0], v[1], v[2], Aabbd::from(cut)))
+            fail(tri_name + " reaches past the " + (side == 0 ? "lower" : "upper") +
+                 " bounding plane of " + name);
+    }
+    const std::uint32_t n = node.resolution();
+    const CellMath cm(node.lo, node.hi, n);
+    // Only cells within the triangle's bounding box on this axis can overlap it.
+    const double tmin = std::min({v[0][axis], v[1][axis], v[2][axis]});
+    const double tmax = std::max({v[0][axis], v[1][axis], v[2][axis]});
+    const std::uint32_t c0 = cm.locate_lowest(
+        std::nextafter(static_cast<float>(tmin), -std::numeric_limits<float>::infinity()));
+    const std::uint32_t c1 = cm.locate_highest(
+        std::nextafter(static_cast<float>(tmax), std::numeric_limits<float>::infinity()));
+    for (std::uint32_t i = c0; i <= c1 && i < n; ++i) {
+        Aabb child = box;
+        child.lower[axis] = cm.boundary(i);
+        child.upper[axis] = cm.boundary(i + 1);
+        check_triangle(grid, tri, v, grid.cells[node.first_cell() + i], child,
+                       name + " cell " + std::to_string(i));
+    }
+}
+
+}  // namespace
+
+void check_coverage(const SplitGrid& grid, const MeshView& mesh)
+{
+    if (mesh.triangle_count() != grid.triangle_count)
+        fail("grid was built for " + std::to_string(grid.triangle_count) +
+             " triangles but the mesh has " + std::to_string(mesh.triangle_count()));
+    if (grid.root.is_empty()) {
+        if (grid.triangle_count != 0) fail("root is empty but the mesh has triangles");
+        return;
+    }
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, grid.triangle_count, 256),
+                      [&](const tbb::blocked_range<std::uint32_t>& r) {
+                          for (std::uint32_t t = r.begin(); t < r.end(); ++t) {
+                              const Vec3d v[3] = {Vec3d(mesh.vertex(t, 0)),
+                                                  Vec3d(mesh.vertex(t, 1)),
+                                                  Vec3d(mesh.vertex(t, 2))};
+                              for (const Vec3d& p : v)
+                                  for (int k = 0; k < 3; ++k)
+                                      if (p[k] < grid.root_box.lower[k] ||
+                                          p[k] > grid.root_box.upper[k])
+                                          fail("triangle " + std::to_string(t) +
+                                               " lies outside the root box");
+                              check_triangle(grid, t, v, grid.root, grid.root_box, "the root cell");
+                          }
+                      });
+}
+
+}  // namespace sg

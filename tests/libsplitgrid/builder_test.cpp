@@ -1,0 +1,178 @@
+#include "splitgrid/builder.hpp"
+
+#include <gtest/gtest.h>
+
+#include "splitgrid/error.hpp"
+#include "splitgrid/stats.hpp"
+#include "splitgrid/traverse.hpp"
+#include "splitgrid/validate.hpp"
+#include "support/oracle.hpp"
+#include "support/random_scene.hpp"
+
+namespace sg {
+namespace {
+
+const Aabb box10{{0, 0, 0}, {10, 10, 10}};
+
+SplitGrid build_checked(const Mesh& mesh, const BuildConfig& config = {})
+{
+    SplitGrid grid = build_split_grid(mesh.view(), config);
+    check_invariants(grid);
+    check_coverage(grid, mesh.view());
+    return grid;
+}
+
+TEST(Builder, OutputIsIdenticalForEveryThreadCount)
+{
+    // Large enough that the root's work and its children run in parallel.
+    const Mesh mesh = test::random_triangles(1, 60000, box10, 0.3f);
+    BuildConfig config;
+    config.threads = 1;
+    const SplitGrid one = build_checked(mesh, config);
+    for (std::uint32_t threads : {2u, 4u, 0u}) {
+        config.threads = threads;
+        SplitGrid other = build_split_grid(mesh.view(), config);
+        other.config.threads = 1;  // the only field allowed to differ
+        EXPECT_TRUE(other == one) << "threads = " << threads;
+    }
+}
+
+TEST(Builder, LeavesRespectTheLeafSizeUnlessSplittingStopped)
+{
+    const Mesh mesh = test::random_triangles(2, 5000, box10, 0.2f);
+    BuildConfig config;
+    config.leaf_size = 6;
+    const SplitGrid grid = build_checked(mesh, config);
+    const GridStats stats = compute_stats(grid);
+    // Small triangles in a big box: splitting never stalls, so no leaf should be larger than
+    // a handful over the limit.
+    EXPECT_LE(stats.leaf_size_mean, 6.0);
+    EXPECT_GT(stats.node_count, 100u);
+}
+
+TEST(Builder, DepthLimitIsHonoured)
+{
+    const Mesh mesh = test::random_triangles(3, 5000, box10, 0.2f);
+    for (std::uint32_t depth : {0u, 1u, 3u}) {
+        BuildConfig config;
+        config.max_depth = depth;
+        const SplitGrid grid = build_checked(mesh, config);
+        EXPECT_LE(compute_stats(grid).max_depth, depth);
+        const auto rays = test::rays_at_triangles(4, 2000, box10, mesh.view());
+        const auto r = test::compare_with_brute_force(grid, mesh.view(), rays);
+        EXPECT_EQ(r.closest_disagreements + r.any_hit_disagreements, 0u) << r.first_failure;
+    }
+}
+
+TEST(Builder, EmptyMeshGivesAnEmptyGrid)
+{
+    const Mesh mesh;
+    const SplitGrid grid = build_checked(mesh);
+    EXPECT_TRUE(grid.root.is_empty());
+    EXPECT_TRUE(grid.nodes.empty());
+    EXPECT_FALSE(intersect(grid, mesh.view(), Ray{{0, 0, 0}, {1, 0, 0}}).is_hit());
+}
+
+TEST(Builder, SingleTriangleIsALeafRoot)
+{
+    Mesh mesh;
+    mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.triangles = {Triangle{{0, 1, 2}}};
+    const SplitGrid grid = build_checked(mesh);
+    ASSERT_TRUE(grid.root.is_leaf());
+    const Hit hit = intersect(grid, mesh.view(), Ray{{0.25f, 0.25f, 1.0f}, {0, 0, -1}});
+    ASSERT_TRUE(hit.is_hit());
+    EXPECT_EQ(hit.t, 1.0f);
+    EXPECT_EQ(hit.u, 0.25f);
+    EXPECT_EQ(hit.v, 0.25f);
+}
+
+TEST(Builder, ManyCopiesOfOneTriangleStopSplitting)
+{
+    Mesh mesh;
+    mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0.5f}};
+    mesh.triangles.assign(100000, Triangle{{0, 1, 2}});
+    const SplitGrid grid = build_checked(mesh);
+    // Every cell would receive every copy, so the builder must give up at once.
+    EXPECT_LE(grid.nodes.size(), 1u);
+    EXPECT_LE(grid.triangle_refs.size(), 200000u);
+    const Hit hit = intersect(grid, mesh.view(), Ray{{0.1f, 0.1f, 5.0f}, {0, 0, -1}});
+    EXPECT_TRUE(hit.is_hit());
+}
+
+TEST(Builder, TrianglesAreReferencedOnlyWhereTheyReallyAre)
+{
+    // A long diagonal sliver crosses many cells' bounding boxes but few cells; box-overlap
+    // assignment would reference it in about resolution^2 cells of a 2-level grid.
+    Mesh mesh = test::random_triangles(5, 4000, box10, 0.1f);
+    const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+    mesh.vertices.push_back({0, 0, 0});
+    mesh.vertices.push_back({10, 10, 10});
+    mesh.vertices.push_back({10, 10.01f, 10});
+    mesh.triangles.push_back(Triangle{{base, base + 1, base + 2}});
+    const SplitGrid grid = build_checked(mesh);
+    std::size_t sliver_refs = 0;
+    for (TriangleRef r : grid.triangle_refs) sliver_refs += (r == base / 3) ? 1 : 0;
+    const GridStats stats = compute_stats(grid);
+    EXPECT_GT(sliver_refs, 0u);
+    // Clipping keeps the sliver to the cells along the diagonal: far fewer than the leaves.
+    EXPECT_LT(sliver_refs * 10, stats.leaf_cells);
+}
+
+TEST(Builder, RejectsBadConfigAndBadMesh)
+{
+    const Mesh mesh = test::random_triangles(6, 10, box10, 1.0f);
+    BuildConfig config;
+    config.leaf_size = 0;
+    try {
+        (void)build_split_grid(mesh.view(), config);
+        FAIL() << "leaf_size 0 accepted";
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("leaf_size"), std::string::npos) << e.what();
+    }
+    config = {};
+    config.resolution_min = 10;
+    config.resolution_max = 5;
+    EXPECT_THROW((void)build_split_grid(mesh.view(), config), ConfigError);
+    config = {};
+    config.resolution_sigma = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_THROW((void)build_split_grid(mesh.view(), config), ConfigError);
+    config = {};
+    config.max_depth = max_supported_depth + 1;
+    EXPECT_THROW((void)build_split_grid(mesh.view(), config), ConfigError);
+
+    Mesh bad = mesh;
+    bad.triangles[3].v[1] = 999;
+    EXPECT_THROW((void)build_split_grid(bad.view(), {}), InputError);
+    bad = mesh;
+    bad.vertices[4].y = std::numeric_limits<float>::infinity();
+    EXPECT_THROW((void)build_split_grid(bad.view(), {}), InputError);
+}
+
+TEST(Builder, FarFromTheOriginStaysExact)
+{
+    // Embree's watertightness position; triangles span thousands of ulps there.
+    const Mesh mesh = test::uv_sphere({148376.0f, 1234.0f, -223423.0f}, 400.0f, 48, 96);
+    const SplitGrid grid = build_checked(mesh);
+    const Aabb inside{{148376.0f - 200, 1234.0f - 200, -223423.0f - 200},
+                      {148376.0f + 200, 1234.0f + 200, -223423.0f + 200}};
+    const auto rays = test::random_rays(7, 20000, inside);
+    std::size_t misses = 0;
+    for (const Ray& r : rays) misses += intersect(grid, mesh.view(), r).is_hit() ? 0 : 1;
+    EXPECT_EQ(misses, 0u);
+    const auto r = test::compare_with_brute_force(grid, mesh.view(), rays);
+    EXPECT_EQ(r.closest_disagreements + r.any_hit_disagreements, 0u) << r.first_failure;
+}
+
+TEST(Builder, ProgressReachesOneAndNeverGoesBack)
+{
+    const Mesh mesh = test::random_triangles(8, 20000, box10, 0.2f);
+    std::vector<double> seen;
+    (void)build_split_grid(mesh.view(), {}, [&](double f) { seen.push_back(f); });
+    ASSERT_FALSE(seen.empty());
+    for (std::size_t k = 1; k < seen.size(); ++k) EXPECT_GE(seen[k], seen[k - 1]);
+    EXPECT_NEAR(seen.back(), 1.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace sg

@@ -1,0 +1,155 @@
+// Small pieces checked against independent arithmetic: the resolution formula, the cell
+// mapping, clipping against the separating-axis test, the watertight triangle test.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "splitgrid/cell_math.hpp"
+#include "splitgrid/clip.hpp"
+#include "splitgrid/mesh.hpp"
+#include "splitgrid/ray_triangle.hpp"
+#include "splitgrid/resolution.hpp"
+
+namespace sg {
+namespace {
+
+TEST(Resolution, FollowsTheGaussianFormula)
+{
+    BuildConfig c;
+    c.resolution_min = 2;
+    c.resolution_max = 66;
+    c.resolution_sigma = 100.0;
+    EXPECT_EQ(node_resolution(c, 0), 2u);
+    // 2 + 64 * (1 - e^-0.5) = 27.18...
+    EXPECT_EQ(node_resolution(c, 100), 27u);
+    // 2 + 64 * (1 - e^-2) = 57.33...
+    EXPECT_EQ(node_resolution(c, 200), 57u);
+    EXPECT_EQ(node_resolution(c, 100000), 66u);
+    for (std::size_t n = 0; n < 2000; n += 7)
+        EXPECT_LE(node_resolution(c, n), node_resolution(c, n + 7)) << "not monotone at " << n;
+}
+
+TEST(CellMath, BoundariesAreMonotoneAndLocateAgreesWithLinearSearch)
+{
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> u(-1000.0f, 1000.0f);
+    for (int trial = 0; trial < 200; ++trial) {
+        float lo = u(rng), hi = u(rng);
+        if (lo > hi) std::swap(lo, hi);
+        const std::uint32_t n = 1 + static_cast<std::uint32_t>(trial % 70);
+        const CellMath cm(lo, hi, n);
+        EXPECT_EQ(cm.boundary(0), lo);
+        EXPECT_EQ(cm.boundary(n), hi);
+        for (std::uint32_t i = 0; i < n; ++i) EXPECT_LE(cm.boundary(i), cm.boundary(i + 1));
+        for (int q = 0; q < 50; ++q) {
+            const float x =
+                q % 5 == 0 ? cm.boundary(static_cast<std::uint32_t>(q) % (n + 1))
+                           : std::min(hi, lo + (hi - lo) * (static_cast<float>(q) / 49.0f));
+            std::uint32_t lowest = n, highest = 0;
+            for (std::uint32_t i = 0; i < n; ++i)
+                if (cm.boundary(i) <= x && x <= cm.boundary(i + 1)) {
+                    lowest = std::min(lowest, i);
+                    highest = std::max(highest, i);
+                }
+            ASSERT_LT(lowest, n) << "no cell contains " << x;
+            EXPECT_EQ(cm.locate_lowest(x), lowest);
+            EXPECT_EQ(cm.locate_highest(x), highest);
+        }
+    }
+}
+
+TEST(Clip, AgreesWithTheSeparatingAxisTest)
+{
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<double> u(-2.0, 2.0);
+    const Aabbd box{{-1, -1, -1}, {1, 1, 1}};
+    int overlaps = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const Vec3d a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)};
+        Aabbd out;
+        const bool clipped = clip_triangle_bounds(a, b, c, box, out);
+        const bool sat = triangle_overlaps_box(a, b, c, box);
+        ASSERT_EQ(clipped, sat) << "trial " << trial;
+        if (!clipped) continue;
+        ++overlaps;
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_GE(out.lower[k], box.lower[k]);
+            EXPECT_LE(out.upper[k], box.upper[k]);
+            // The clipped extent lies inside the triangle's own extent.
+            EXPECT_GE(out.lower[k], std::min({a[k], b[k], c[k]}));
+            EXPECT_LE(out.upper[k], std::max({a[k], b[k], c[k]}));
+        }
+    }
+    EXPECT_GT(overlaps, 1000);
+}
+
+TEST(Clip, ClippedBoundsAreTightForAKnownCase)
+{
+    // The triangle (0,0,0) (4,0,0) (0,4,0) inside the box [1,2]^2 x [-1,1]: the clipped
+    // polygon is the whole square [1,2]^2 (the hypotenuse x + y = 4 is beyond it).
+    Aabbd out;
+    ASSERT_TRUE(clip_triangle_bounds({0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {{1, 1, -1}, {2, 2, 1}}, out));
+    EXPECT_DOUBLE_EQ(out.lower.x, 1.0);
+    EXPECT_DOUBLE_EQ(out.upper.x, 2.0);
+    EXPECT_DOUBLE_EQ(out.upper.y, 2.0);
+    EXPECT_DOUBLE_EQ(out.lower.z, 0.0);
+    EXPECT_DOUBLE_EQ(out.upper.z, 0.0);
+    // Box [2.5,3]^2: only the corner region below x + y = 4 is inside, so y <= 1.5.
+    ASSERT_TRUE(clip_triangle_bounds({0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {{2.5, 0, -1}, {3, 3, 1}}, out));
+    EXPECT_DOUBLE_EQ(out.upper.y, 1.5);
+    // Touching at one corner counts.
+    EXPECT_TRUE(clip_triangle_bounds({0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {{4, 0, 0}, {5, 1, 1}}, out));
+    EXPECT_FALSE(clip_triangle_bounds({0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {{2.1, 2.1, -1}, {3, 3, 1}}, out));
+}
+
+TEST(Watertight, SharedEdgesAndVerticesNeverLeak)
+{
+    // A fan of triangles around a vertex; rays straight at the shared vertex and the shared
+    // edges must hit at least one of them.
+    const Vec3f c{0.3f, 0.7f, 0.0f};
+    std::vector<Vec3f> ring;
+    for (int k = 0; k < 7; ++k) {
+        const double phi = 2.0 * 3.14159265358979 * k / 7.0;
+        ring.push_back({float(0.3 + std::cos(phi)), float(0.7 + std::sin(phi)), 0.0f});
+    }
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-3.0f, 3.0f);
+    for (int trial = 0; trial < 5000; ++trial) {
+        const Vec3f origin{u(rng), u(rng), 1.0f + std::abs(u(rng))};
+        const int k = trial % 7;
+        const Vec3f target = trial % 2 ? c : ring[static_cast<std::size_t>(k)] * 0.5f + c * 0.5f;
+        const Ray ray{origin, target - origin};
+        const WatertightRay wr(ray);
+        int hits = 0;
+        for (int j = 0; j < 7; ++j) {
+            float t, uu, vv;
+            hits += intersect_triangle(wr, c, ring[static_cast<std::size_t>(j)],
+                                       ring[static_cast<std::size_t>((j + 1) % 7)], 0.0f,
+                                       1e30f, t, uu, vv);
+        }
+        EXPECT_GE(hits, 1) << "trial " << trial;
+    }
+}
+
+TEST(Mesh, CleanDropsExactlyTheBadTriangles)
+{
+    Mesh mesh;
+    mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {std::nanf(""), 0, 0}};
+    mesh.triangles = {Triangle{{0, 1, 2}},  // good
+                      Triangle{{0, 1, 3}},  // collinear: zero area
+                      Triangle{{0, 1, 4}},  // NaN corner
+                      Triangle{{0, 1, 9}},  // index out of range
+                      Triangle{{2, 2, 1}},  // repeated corner: zero area
+                      Triangle{{2, 1, 0}}}; // good
+    const CleanReport r = clean_mesh(mesh);
+    EXPECT_EQ(r.degenerate_triangles, 2u);
+    EXPECT_EQ(r.nonfinite_triangles, 1u);
+    EXPECT_EQ(r.bad_index_triangles, 1u);
+    ASSERT_EQ(mesh.triangles.size(), 2u);
+    EXPECT_EQ(mesh.triangles[1], (Triangle{{2, 1, 0}}));
+}
+
+}  // namespace
+}  // namespace sg

@@ -1,0 +1,223 @@
+// Traversal against the brute-force oracle (every triangle tested, lowest t wins), on seeded
+// scenes chosen to hit the known failure modes of grids: zero direction components, rays
+// starting on or lying in cell planes, flat scenes, geometry exactly on cell planes.
+
+#include "splitgrid/traverse.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "splitgrid/builder.hpp"
+#include "splitgrid/cell_math.hpp"
+#include "splitgrid/validate.hpp"
+#include "support/oracle.hpp"
+#include "support/random_scene.hpp"
+
+namespace sg {
+namespace {
+
+SplitGrid build_checked(const Mesh& mesh, const BuildConfig& config = {})
+{
+    SplitGrid grid = build_split_grid(mesh.view(), config);
+    check_invariants(grid);
+    check_coverage(grid, mesh.view());
+    return grid;
+}
+
+void expect_agreement(const SplitGrid& grid, const Mesh& mesh, const std::vector<Ray>& rays,
+                      std::size_t min_hits = 1)
+{
+    const test::OracleReport r = test::compare_with_brute_force(grid, mesh.view(), rays);
+    EXPECT_EQ(r.closest_disagreements, 0u) << r.first_failure;
+    EXPECT_EQ(r.any_hit_disagreements, 0u) << r.first_failure;
+    EXPECT_GE(r.hits, min_hits) << "the rays should hit something, or the test proves little";
+}
+
+const Aabb unit_box{{0, 0, 0}, {10, 10, 10}};
+
+TEST(Traverse, RandomSoupsAgreeWithBruteForce)
+{
+    for (std::uint32_t seed : {1u, 2u, 3u}) {
+        const Mesh mesh = test::random_triangles(seed, 2000, unit_box, 1.0f);
+        const SplitGrid grid = build_checked(mesh);
+        ASSERT_GT(grid.nodes.size(), 1u);
+        auto rays = test::random_rays(seed + 100, 10000, unit_box);
+        const auto aimed = test::rays_at_triangles(seed + 200, 10000, unit_box, mesh.view());
+        rays.insert(rays.end(), aimed.begin(), aimed.end());
+        expect_agreement(grid, mesh, rays, 10000);
+    }
+}
+
+TEST(Traverse, RayWindowsAgreeWithBruteForce)
+{
+    const Mesh mesh = test::random_triangles(7, 2000, unit_box, 1.5f);
+    const SplitGrid grid = build_checked(mesh);
+    auto rays = test::rays_at_triangles(8, 20000, unit_box, mesh.view());
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(0.0f, 1.5f);
+    for (Ray& r : rays) {
+        const float a = u(rng), b = u(rng);
+        r.t_min = std::min(a, b);
+        r.t_max = std::max(a, b);
+    }
+    rays[0].t_min = rays[0].t_max = 0.5f;  // an empty-width window
+    expect_agreement(grid, mesh, rays, 1000);
+}
+
+TEST(Traverse, ZeroDirectionComponentsAgreeWithBruteForce)
+{
+    const Mesh mesh = test::random_triangles(11, 2000, unit_box, 1.0f);
+    const SplitGrid grid = build_checked(mesh);
+    std::mt19937 rng(12);
+    std::uniform_int_distribution<int> pick_axis(0, 2);
+    std::uniform_int_distribution<std::size_t> pick_vertex(0, mesh.vertices.size() - 1);
+    std::vector<Ray> rays;
+    const auto random = test::random_rays(13, 20000, unit_box);
+    for (std::size_t k = 0; k < random.size(); ++k) {
+        Ray r = random[k];
+        const int zeroed = pick_axis(rng);
+        r.direction[zeroed] = (k & 1) ? 0.0f : -0.0f;
+        if (k % 3 == 0) r.direction[(zeroed + 1) % 3] = (k & 2) ? 0.0f : -0.0f;
+        // A third of the rays pass exactly through a vertex, where cells and triangles meet.
+        if (k % 3 == 1) {
+            const Vec3f v = mesh.vertices[pick_vertex(rng)];
+            r.origin = v - r.direction * 20.0f;
+            r.origin[zeroed] = v[zeroed];
+        }
+        if (r.direction == Vec3f{}) r.direction[zeroed] = 1.0f;
+        rays.push_back(r);
+    }
+    expect_agreement(grid, mesh, rays, 2000);
+}
+
+// Every boundary plane of a sample of nodes: origins exactly on the plane, crossing it or
+// lying in it (direction component +0.0 and -0.0).
+TEST(Traverse, RaysOnCellBoundariesAndBoundingPlanes)
+{
+    const Mesh mesh = test::random_triangles(21, 3000, unit_box, 1.0f);
+    const SplitGrid grid = build_checked(mesh);
+    std::mt19937 rng(22);
+    std::uniform_real_distribution<float> u(0.0f, 10.0f);
+    std::vector<Ray> rays;
+    const auto dirs = test::random_rays(23, 40000, unit_box);
+    std::size_t k = 0;
+    for (std::size_t n = 0; n < grid.nodes.size() && rays.size() < 40000; n += 3) {
+        const GridNode& node = grid.nodes[n];
+        const CellMath cm(node.lo, node.hi, node.resolution());
+        for (std::uint32_t i = 0; i <= node.resolution() && rays.size() < 40000; ++i) {
+            for (int rep = 0; rep < 4; ++rep, ++k) {
+                Ray r;
+                r.origin = {u(rng), u(rng), u(rng)};
+                r.origin[node.axis()] = cm.boundary(i);
+                r.direction = dirs[k % dirs.size()].direction;
+                if (rep == 2) r.direction[node.axis()] = 0.0f;
+                if (rep == 3) r.direction[node.axis()] = -0.0f;
+                rays.push_back(r);
+            }
+        }
+    }
+    ASSERT_GE(rays.size(), 20000u);
+    expect_agreement(grid, mesh, rays, 1000);
+}
+
+TEST(Traverse, PlanarSceneAndRaysInItsPlane)
+{
+    for (int axis = 0; axis < 3; ++axis) {
+        const Mesh mesh = test::axis_plane(axis, 3.0f, 40);  // 3200 triangles in one plane
+        const SplitGrid grid = build_checked(mesh);
+        auto rays = test::random_rays(31, 5000, Aabb{{-1, -1, -1}, {41, 41, 41}});
+        const auto aimed = test::rays_at_triangles(32, 5000, Aabb{{-1, -1, -1}, {41, 41, 41}},
+                                                   mesh.view());
+        rays.insert(rays.end(), aimed.begin(), aimed.end());
+        // Rays lying in the plane of the triangles.
+        for (std::size_t k = 0; k < 2000; ++k) {
+            Ray r = rays[k];
+            r.origin[axis] = 3.0f;
+            r.direction[axis] = (k & 1) ? 0.0f : -0.0f;
+            if (r.direction == Vec3f{}) r.direction[(axis + 1) % 3] = 1.0f;
+            rays.push_back(r);
+        }
+        expect_agreement(grid, mesh, rays, 3000);
+    }
+}
+
+// Triangles lying exactly on cell planes: unit-spaced planes on all three axes, with the
+// resolution forced so that cell boundaries fall on them.
+TEST(Traverse, TrianglesOnCellPlanes)
+{
+    Mesh mesh;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int offset = 0; offset <= 8; offset += 2) test::append(mesh, test::axis_plane(axis, float(offset), 8));
+    BuildConfig config;
+    config.resolution_min = 8;
+    config.resolution_max = 8;
+    const SplitGrid grid = build_checked(mesh, config);
+    const Aabb box{{-0.5f, -0.5f, -0.5f}, {8.5f, 8.5f, 8.5f}};
+    auto rays = test::random_rays(41, 10000, box);
+    const auto aimed = test::rays_at_triangles(42, 10000, box, mesh.view());
+    rays.insert(rays.end(), aimed.begin(), aimed.end());
+    // Axis-aligned rays through lattice points (edges and corners of the triangles).
+    std::mt19937 rng(43);
+    std::uniform_int_distribution<int> coord(0, 8);
+    for (int k = 0; k < 6000; ++k) {
+        Ray r;
+        r.origin = {float(coord(rng)), float(coord(rng)), float(coord(rng))};
+        r.direction = {};
+        r.direction[k % 3] = (k % 2) ? 1.0f : -1.0f;
+        r.origin[k % 3] = (k % 2) ? -1.0f : 9.0f;
+        rays.push_back(r);
+    }
+    expect_agreement(grid, mesh, rays, 5000);
+}
+
+// A closed sphere: every ray from inside must hit it, whatever the structure does.
+TEST(Traverse, ClosedSphereHasNoLeaks)
+{
+    const Mesh mesh = test::uv_sphere({1.0f, 2.0f, 3.0f}, 5.0f, 64, 128);
+    const SplitGrid grid = build_checked(mesh);
+    const auto rays = test::random_rays(51, 50000, Aabb{{-1.5f, -0.5f, 0.5f}, {3.5f, 4.5f, 5.5f}});
+    std::size_t misses = 0;
+    for (const Ray& r : rays) misses += intersect(grid, mesh.view(), r).is_hit() ? 0 : 1;
+    EXPECT_EQ(misses, 0u);
+}
+
+TEST(Traverse, InvalidRaysMissWithoutTouchingTheStructure)
+{
+    const Mesh mesh = test::random_triangles(61, 100, unit_box, 1.0f);
+    const SplitGrid grid = build_checked(mesh);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    const std::vector<Ray> bad = {
+        Ray{{nan, 0, 0}, {1, 0, 0}, 0, inf}, Ray{{0, 0, 0}, {nan, 1, 0}, 0, inf},
+        Ray{{inf, 0, 0}, {1, 0, 0}, 0, inf}, Ray{{0, 0, 0}, {0, 0, 0}, 0, inf},
+        Ray{{0, 0, 0}, {1, 0, 0}, 2, 1},     Ray{{0, 0, 0}, {1, 0, 0}, nan, inf},
+        Ray{{0, 0, 0}, {1, 0, 0}, 0, nan},   Ray{{0, 0, 0}, {1e-40f, 0, 0}, 0, inf},
+    };
+    for (const Ray& r : bad) {
+        EXPECT_FALSE(is_valid(r));
+        TraversalCounters counters;
+        EXPECT_FALSE(intersect(grid, mesh.view(), r, &counters).is_hit());
+        EXPECT_FALSE(occluded(grid, mesh.view(), r, &counters));
+        EXPECT_EQ(counters.cells_visited + counters.nodes_visited, 0u);
+    }
+}
+
+TEST(Traverse, CountersSeeTheWork)
+{
+    const Mesh mesh = test::random_triangles(71, 2000, unit_box, 1.0f);
+    const SplitGrid grid = build_checked(mesh);
+    const auto rays = test::rays_at_triangles(72, 1000, unit_box, mesh.view());
+    std::size_t tests = 0;
+    for (const Ray& r : rays) {
+        TraversalCounters c;
+        (void)intersect(grid, mesh.view(), r, &c);
+        EXPECT_GE(c.nodes_visited, 1u);
+        tests += c.triangles_tested;
+    }
+    // The structure must test far fewer triangles than brute force would.
+    EXPECT_LT(tests, rays.size() * mesh.triangles.size() / 20);
+}
+
+}  // namespace
+}  // namespace sg

@@ -1,0 +1,131 @@
+#include "splitgrid/validate.hpp"
+
+#include <gtest/gtest.h>
+
+#include "splitgrid/builder.hpp"
+#include "splitgrid/error.hpp"
+#include "support/random_scene.hpp"
+
+namespace sg {
+namespace {
+
+struct Fixture {
+    Mesh mesh = test::random_triangles(1, 3000, Aabb{{0, 0, 0}, {10, 10, 10}}, 0.5f);
+    SplitGrid grid = build_split_grid(mesh.view(), {});
+};
+
+void expect_refused(const SplitGrid& grid, const std::string& needle)
+{
+    try {
+        check_invariants(grid);
+        FAIL() << "accepted a grid that should fail with '" << needle << "'";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+}
+
+TEST(Validate, AcceptsWhatTheBuilderMakes)
+{
+    Fixture f;
+    EXPECT_NO_THROW(check_invariants(f.grid));
+    EXPECT_NO_THROW(check_coverage(f.grid, f.mesh.view()));
+}
+
+TEST(Validate, RefusesEachKindOfCorruption)
+{
+    Fixture f;
+    ASSERT_GT(f.grid.nodes.size(), 3u);
+    const std::size_t inner = [&] {
+        for (std::size_t c = 0; c < f.grid.cells.size(); ++c)
+            if (f.grid.cells[c].is_inner()) return c;
+        return std::size_t{0};
+    }();
+    const std::size_t leaf = [&] {
+        for (std::size_t c = 0; c < f.grid.cells.size(); ++c)
+            if (f.grid.cells[c].is_leaf()) return c;
+        return std::size_t{0};
+    }();
+
+    SplitGrid g = f.grid;
+    g.cells[inner] = CellRef::make_inner(static_cast<std::uint32_t>(g.nodes.size()));
+    expect_refused(g, "out of range");
+
+    g = f.grid;
+    g.cells[inner] = CellRef::make_inner(0);  // back to the root: a cycle
+    expect_refused(g, "more than one cell");
+
+    g = f.grid;
+    g.cells[leaf] = CellRef::from_raw(static_cast<std::uint32_t>(g.triangle_refs.size()), 5);
+    expect_refused(g, "out of range");
+
+    g = f.grid;
+    g.triangle_refs[7] = g.triangle_count;
+    expect_refused(g, "names triangle");
+
+    g = f.grid;
+    g.nodes[1] = GridNode::from_raw(g.nodes[1].lo, g.nodes[1].hi, g.nodes[1].first_cell(),
+                                    g.nodes[1].axis_res_bits() | 3u);
+    expect_refused(g, "axis 3");
+
+    g = f.grid;
+    g.nodes[2].lo = std::numeric_limits<float>::quiet_NaN();
+    expect_refused(g, "not finite");
+
+    g = f.grid;
+    g.nodes[0].lo = g.root_box.lower[g.nodes[0].axis()] - 1.0f;
+    expect_refused(g, "leave the node's box");
+
+    g = f.grid;
+    g.nodes[1] = GridNode::from_raw(g.nodes[1].lo, g.nodes[1].hi,
+                                    static_cast<std::uint32_t>(g.cells.size()),
+                                    g.nodes[1].axis_res_bits());
+    expect_refused(g, "out of range");
+
+    g = f.grid;
+    g.nodes.push_back(g.nodes[0]);  // unreachable
+    expect_refused(g, "not reachable");
+}
+
+TEST(Validate, RefusesTreesDeeperThanTheTraversalStack)
+{
+    // A chain of nodes with one cell each, one deeper than supported.
+    SplitGrid g;
+    g.root_box = Aabb{{0, 0, 0}, {1, 1, 1}};
+    g.triangle_count = 1;
+    g.root = CellRef::make_inner(0);
+    for (std::uint32_t d = 0; d <= max_supported_depth + 1; ++d) {
+        g.nodes.push_back(GridNode::make(0, 0.0f, 1.0f, 1, d));
+        g.cells.push_back(d == max_supported_depth + 1 ? CellRef::make_leaf(0, 1)
+                                                       : CellRef::make_inner(d + 1));
+    }
+    g.triangle_refs = {0};
+    expect_refused(g, "deeper than");
+    g.nodes.resize(max_supported_depth + 1);
+    g.cells.resize(max_supported_depth + 1);
+    g.cells.back() = CellRef::make_leaf(0, 1);
+    EXPECT_NO_THROW(check_invariants(g));
+}
+
+TEST(Validate, CoverageCatchesAMissingReference)
+{
+    Fixture f;
+    // Remove one triangle from one leaf that holds several: coverage must notice.
+    for (CellRef& cell : f.grid.cells) {
+        if (!cell.is_leaf() || cell.ref_count() < 2) continue;
+        const std::uint32_t dropped = f.grid.triangle_refs[cell.first_ref()];
+        f.grid.triangle_refs[cell.first_ref()] = f.grid.triangle_refs[cell.first_ref() + 1];
+        try {
+            check_coverage(f.grid, f.mesh.view());
+            FAIL() << "coverage accepted a leaf without triangle " << dropped;
+        } catch (const FormatError& e) {
+            EXPECT_NE(std::string(e.what()).find("triangle " + std::to_string(dropped)),
+                      std::string::npos)
+                << e.what();
+        }
+        return;
+    }
+    FAIL() << "no leaf with two references";
+}
+
+}  // namespace
+}  // namespace sg

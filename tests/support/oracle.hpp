@@ -1,0 +1,29 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "splitgrid/mesh.hpp"
+#include "splitgrid/ray.hpp"
+#include "splitgrid/split_grid.hpp"
+
+namespace sg::test {
+
+/// Result of comparing a structure's answers with brute force over all triangles.
+struct OracleReport {
+    std::size_t rays = 0;
+    std::size_t closest_disagreements = 0;
+    std::size_t any_hit_disagreements = 0;
+    std::size_t hits = 0;  ///< rays the oracle says hit something
+    std::string first_failure;  ///< description of the first disagreement
+};
+
+/// Same closest hit: both miss, or the same triangle at the same t, or (a tie) another
+/// triangle at exactly the same t.
+[[nodiscard]] bool same_closest_hit(const Hit& expected, const Hit& actual) noexcept;
+
+/// Runs intersect() and occluded() on every ray and compares with the brute-force answers.
+[[nodiscard]] OracleReport compare_with_brute_force(const SplitGrid& grid, const MeshView& mesh,
+                                                    const std::vector<Ray>& rays);
+
+}  // namespace sg::test

@@ -1,0 +1,146 @@
+#include "support/random_scene.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace sg::test {
+namespace {
+
+Vec3f uniform_in(std::mt19937& rng, const Aabb& box)
+{
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    Vec3f p;
+    for (int k = 0; k < 3; ++k) p[k] = box.lower[k] + u(rng) * box.extent(k);
+    return p;
+}
+
+Vec3f uniform_direction(std::mt19937& rng)
+{
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::uniform_real_distribution<float> phi(0.0f, 2.0f * std::numbers::pi_v<float>);
+    const float z = u(rng);
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    const float p = phi(rng);
+    return {r * std::cos(p), r * std::sin(p), z};
+}
+
+}  // namespace
+
+Mesh random_triangles(std::uint32_t seed, std::size_t count, const Aabb& box, float max_edge)
+{
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> e(-max_edge, max_edge);
+    Mesh mesh;
+    mesh.vertices.reserve(3 * count);
+    mesh.triangles.reserve(count);
+    for (std::size_t t = 0; t < count; ++t) {
+        const Vec3f a = uniform_in(rng, box);
+        const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+        mesh.vertices.push_back(a);
+        mesh.vertices.push_back(a + Vec3f{e(rng), e(rng), e(rng)});
+        mesh.vertices.push_back(a + Vec3f{e(rng), e(rng), e(rng)});
+        mesh.triangles.push_back(Triangle{{base, base + 1, base + 2}});
+    }
+    return mesh;
+}
+
+Mesh uv_sphere(Vec3f center, float radius, std::uint32_t rings, std::uint32_t segments)
+{
+    Mesh mesh;
+    const double pi = std::numbers::pi;
+    mesh.vertices.push_back(center + Vec3f{0.0f, 0.0f, radius});  // north pole
+    for (std::uint32_t r = 1; r < rings; ++r) {
+        const double theta = pi * r / rings;
+        for (std::uint32_t s = 0; s < segments; ++s) {
+            const double phi = 2.0 * pi * s / segments;
+            mesh.vertices.push_back(
+                center + Vec3f{static_cast<float>(radius * std::sin(theta) * std::cos(phi)),
+                               static_cast<float>(radius * std::sin(theta) * std::sin(phi)),
+                               static_cast<float>(radius * std::cos(theta))});
+        }
+    }
+    mesh.vertices.push_back(center + Vec3f{0.0f, 0.0f, -radius});  // south pole
+    const auto south = static_cast<std::uint32_t>(mesh.vertices.size() - 1);
+    auto ring_vertex = [&](std::uint32_t r, std::uint32_t s) {
+        return 1 + (r - 1) * segments + (s % segments);
+    };
+    for (std::uint32_t s = 0; s < segments; ++s)
+        mesh.triangles.push_back(Triangle{{0, ring_vertex(1, s), ring_vertex(1, s + 1)}});
+    for (std::uint32_t r = 1; r + 1 < rings; ++r)
+        for (std::uint32_t s = 0; s < segments; ++s) {
+            const std::uint32_t a = ring_vertex(r, s), b = ring_vertex(r, s + 1);
+            const std::uint32_t c = ring_vertex(r + 1, s), d = ring_vertex(r + 1, s + 1);
+            mesh.triangles.push_back(Triangle{{a, c, b}});
+            mesh.triangles.push_back(Triangle{{b, c, d}});
+        }
+    for (std::uint32_t s = 0; s < segments; ++s)
+        mesh.triangles.push_back(
+            Triangle{{ring_vertex(rings - 1, s), south, ring_vertex(rings - 1, s + 1)}});
+    return mesh;
+}
+
+Mesh axis_plane(int axis, float offset, std::uint32_t n)
+{
+    Mesh mesh;
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    for (std::uint32_t i = 0; i <= n; ++i)
+        for (std::uint32_t j = 0; j <= n; ++j) {
+            Vec3f p;
+            p[axis] = offset;
+            p[a1] = static_cast<float>(i);
+            p[a2] = static_cast<float>(j);
+            mesh.vertices.push_back(p);
+        }
+    for (std::uint32_t i = 0; i < n; ++i)
+        for (std::uint32_t j = 0; j < n; ++j) {
+            const std::uint32_t a = i * (n + 1) + j, b = a + 1, c = a + n + 1, d = c + 1;
+            mesh.triangles.push_back(Triangle{{a, b, d}});
+            mesh.triangles.push_back(Triangle{{a, d, c}});
+        }
+    return mesh;
+}
+
+void append(Mesh& a, const Mesh& b)
+{
+    const auto base = static_cast<std::uint32_t>(a.vertices.size());
+    a.vertices.insert(a.vertices.end(), b.vertices.begin(), b.vertices.end());
+    for (Triangle t : b.triangles) {
+        for (std::uint32_t& i : t.v) i += base;
+        a.triangles.push_back(t);
+    }
+}
+
+std::vector<Ray> random_rays(std::uint32_t seed, std::size_t count, const Aabb& box)
+{
+    std::mt19937 rng(seed);
+    std::vector<Ray> rays(count);
+    for (Ray& r : rays) {
+        r.origin = uniform_in(rng, box);
+        r.direction = uniform_direction(rng);
+    }
+    return rays;
+}
+
+std::vector<Ray> rays_at_triangles(std::uint32_t seed, std::size_t count, const Aabb& box,
+                                   const MeshView& mesh)
+{
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<std::size_t> pick(0, mesh.triangle_count() - 1);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<Ray> rays(count);
+    for (Ray& r : rays) {
+        const std::uint32_t t = static_cast<std::uint32_t>(pick(rng));
+        float b1 = u(rng), b2 = u(rng);
+        if (b1 + b2 > 1.0f) {
+            b1 = 1.0f - b1;
+            b2 = 1.0f - b2;
+        }
+        const Vec3f target = mesh.vertex(t, 0) * (1.0f - b1 - b2) + mesh.vertex(t, 1) * b1 +
+                             mesh.vertex(t, 2) * b2;
+        r.origin = uniform_in(rng, box);
+        r.direction = target - r.origin;
+    }
+    return rays;
+}
+
+}  // namespace sg::test
