@@ -34,7 +34,9 @@ void validate(const BuildConfig& config)
     if (!std::isfinite(config.no_progress_fraction))
         throw ConfigError("BuildConfig.no_progress_fraction must be a finite number");
     check_range("no_progress_fraction", config.no_progress_fraction, 0.0, 1.0, true);
-    check_range("stall_limit", config.stall_limit, 1, 64);
+    if (!std::isfinite(config.min_cell_width))
+        throw ConfigError("BuildConfig.min_cell_width must be a finite number");
+    check_range("min_cell_width", config.min_cell_width, 0.0, 1e6);
     check_range("threads", config.threads, 0, 1024);
 }
 

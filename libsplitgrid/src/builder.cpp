@@ -82,16 +82,14 @@ public:
     }
 
     // Builds the cell covering `box` for the triangles `tris` (all known to touch the padded
-    // box), as a node at `depth`, or a leaf when splitting does not pay. `stalled` counts the
-    // levels in a row at whose end this cell still had all of its ancestor's triangles;
-    // `weight` is this cell's share of the whole build, for progress reports.
+    // box), as a node at `depth`, or a leaf when splitting does not pay. `weight` is this
+    // cell's share of the whole build, for progress reports.
     BuiltCell build_cell(const Aabb& box, std::vector<std::uint32_t> tris, std::uint32_t depth,
-                         std::uint32_t stalled, double weight)
+                         double weight)
     {
         BuiltCell cell;
         if (tris.empty()) return cell;
-        if (tris.size() <= config_.leaf_size || depth > config_.max_depth ||
-            stalled >= config_.stall_limit)
+        if (tris.size() <= config_.leaf_size || depth > config_.max_depth)
             return make_leaf(std::move(tris), weight);
 
         const std::size_t n = tris.size();
@@ -148,9 +146,7 @@ public:
                 child.upper[axis] = cm.boundary(static_cast<std::uint32_t>(c) + 1);
                 const double share = weight * static_cast<double>(cell_tris[c].size()) /
                                      static_cast<double>(total_refs);
-                const std::uint32_t child_stalled = cell_tris[c].size() == n ? stalled + 1 : 0;
-                node->cells[c] =
-                    build_cell(child, std::move(cell_tris[c]), depth + 1, child_stalled, share);
+                node->cells[c] = build_cell(child, std::move(cell_tris[c]), depth + 1, share);
             }
         };
         if (n >= parallel_grain)
@@ -179,6 +175,15 @@ private:
         split.lo = std::max(box.lower[axis], tight.lower[axis] - pad_);
         split.hi = std::max(split.lo, std::min(box.upper[axis], tight.upper[axis] + pad_));
         split.resolution = node_resolution(config_, n);
+        if (config_.min_cell_width > 0.0) {
+            double extent_sum = 0.0;
+            for (const TriExtent& e : extents)
+                if (!e.is_empty) extent_sum += double(e.upper[axis]) - e.lower[axis];
+            const double mean_extent = extent_sum / static_cast<double>(n);
+            const double cap = (double(split.hi) - split.lo) / (config_.min_cell_width * mean_extent);
+            if (mean_extent > 0.0 && cap < split.resolution)
+                split.resolution = static_cast<std::uint32_t>(std::max(2.0, std::floor(cap)));
+        }
         if (split.resolution < 2) return false;
         const CellMath cm(split.lo, split.hi, split.resolution);
 
@@ -204,7 +209,32 @@ private:
             heavy += static_cast<double>(c) > heavy_limit ? 1 : 0;
         }
         if (nonempty == 0 || heavy >= 2 || heavy == nonempty) return false;
-        return true;
+        if (!config_.stop_by_cost) return true;
+
+        // Progress by cost (the model of stats.hpp with unit constants): entering the node,
+        // stepping its cells and testing each cell's triangles, against testing all n here.
+        const double box_area = box.surface_area();
+        auto probability = [&](const Aabb& b) {
+            return box_area > 0.0 ? b.surface_area() / box_area : 1.0;
+        };
+        Aabb slab = box;
+        slab.lower[axis] = split.lo;
+        slab.upper[axis] = split.hi;
+        const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+        const double slab_area = slab.surface_area();
+        const double crossings = slab_area > 0.0 ? (split.resolution - 1) * 2.0 *
+                                                       double(slab.extent(a1)) * slab.extent(a2) /
+                                                       slab_area
+                                                 : 0.0;
+        double cost = 1.0 + probability(slab) * (1.0 + crossings);
+        for (std::uint32_t c = 0; c < split.resolution; ++c) {
+            if (split.counts[c] == 0) continue;
+            Aabb cell = box;
+            cell.lower[axis] = cm.boundary(c);
+            cell.upper[axis] = cm.boundary(c + 1);
+            cost += probability(cell) * split.counts[c];
+        }
+        return cost < static_cast<double>(n);
     }
 
     template <class F>
@@ -355,7 +385,7 @@ SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
     tbb::task_arena arena(config.threads == 0 ? tbb::task_arena::automatic
                                               : static_cast<int>(config.threads));
     BuiltCell root;
-    arena.execute([&] { root = builder.build_cell(grid.root_box, std::move(all), 0, 0, 1.0); });
+    arena.execute([&] { root = builder.build_cell(grid.root_box, std::move(all), 0, 1.0); });
     grid.root = flatten(root, grid);
     return grid;
 }

@@ -102,7 +102,8 @@ TEST(Traverse, RaysOnCellBoundariesAndBoundingPlanes)
     std::vector<Ray> rays;
     const auto dirs = test::random_rays(23, 40000, unit_box);
     std::size_t k = 0;
-    for (std::size_t n = 0; n < grid.nodes.size() && rays.size() < 40000; n += 3) {
+    // Cycle through the nodes until enough rays are made; the random origin differs each time.
+    for (std::size_t n = 0; rays.size() < 40000; n = (n + 1) % grid.nodes.size()) {
         const GridNode& node = grid.nodes[n];
         const CellMath cm(node.lo, node.hi, node.resolution());
         for (std::uint32_t i = 0; i <= node.resolution() && rays.size() < 40000; ++i) {

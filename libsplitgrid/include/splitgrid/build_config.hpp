@@ -15,7 +15,8 @@ inline constexpr std::uint32_t max_supported_depth = 64;
 ///   N(n) = round(resolution_min + (resolution_max - resolution_min)
 ///                 * (1 - exp(-(n / resolution_sigma)^2 / 2)))
 /// a Gaussian bell turned upside down: few cells when n is small (near the leaves), rising
-/// smoothly to resolution_max once n is a few sigma (near the root).
+/// smoothly to resolution_max once n is a few sigma (near the root); then capped by
+/// min_cell_width so that cells stay at least as wide as the triangles.
 struct BuildConfig {
     /// Fewest cells of an inner node. Range [1, resolution_max]. 2 makes the small nodes
     /// near the leaves binary splits, which the poster describes as "coarse splits".
@@ -36,10 +37,16 @@ struct BuildConfig {
     /// copies of one triangle, long strips along the axis). Such a split is retried on the
     /// other axes, by decreasing extent, before the node becomes a leaf. Range (0, 1].
     double no_progress_fraction = 0.9;
-    /// A cell that receives every triangle of its node, for this many levels in a row,
-    /// becomes a leaf. Triangles sharing a vertex (a fan) can never be separated, and would
-    /// otherwise be split down to max_depth. Range [1, 64]; 3 lets each axis try once.
-    std::uint32_t stall_limit = 3;
+    /// Cells are never made narrower than this many times the mean extent, along the split
+    /// axis, of the node's triangles (clipped to the node): the resolution is capped at
+    /// (hi - lo) / (min_cell_width * mean extent). Slicing finer than the triangles only
+    /// copies references. Range [0, 1e6]; 0 disables the cap.
+    double min_cell_width = 1.0;
+    /// Keep a split only if it lowers the expected cost of the surface-area model that
+    /// sg-stats reports (stats.hpp, unit constants), with the cells taken as leaves: without
+    /// it, fans of triangles around a vertex and cells smaller than their triangles are split
+    /// down to max_depth. A split that fails is retried on the other axes.
+    bool stop_by_cost = true;
     /// Worker threads for the build; 0 means all hardware threads. Range [0, 1024]. The
     /// output is bit-identical for every value.
     std::uint32_t threads = 0;
