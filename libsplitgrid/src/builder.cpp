@@ -40,10 +40,12 @@ float round_up(double x) noexcept
     return f;
 }
 
-// Clipped extent of one triangle inside a node box, in floats rounded outward.
+// Clipped extent of one triangle inside a node box, in floats rounded outward, and the
+// size of the whole (unclipped) triangle.
 struct TriExtent {
     Vec3f lower;
     Vec3f upper;
+    Vec3f size;
     bool is_empty = false;
 };
 
@@ -176,9 +178,11 @@ private:
         split.hi = std::max(split.lo, std::min(box.upper[axis], tight.upper[axis] + pad_));
         split.resolution = node_resolution(config_, n);
         if (config_.min_cell_width > 0.0) {
+            // The whole triangles' extent, not the clipped one: clipped pieces shrink with the
+            // cells, and a cap on them would let every level slice finer than the last.
             double extent_sum = 0.0;
             for (const TriExtent& e : extents)
-                if (!e.is_empty) extent_sum += double(e.upper[axis]) - e.lower[axis];
+                if (!e.is_empty) extent_sum += e.size[axis];
             const double mean_extent = extent_sum / static_cast<double>(n);
             const double cap = (double(split.hi) - split.lo) / (config_.min_cell_width * mean_extent);
             if (mean_extent > 0.0 && cap < split.resolution)
@@ -262,6 +266,7 @@ private:
         for (int k = 0; k < 3; ++k) {
             e.lower[k] = round_down(clipped.lower[k]);
             e.upper[k] = round_up(clipped.upper[k]);
+            e.size[k] = static_cast<float>(std::max({a[k], b[k], c[k]}) - std::min({a[k], b[k], c[k]}));
         }
         return e;
     }

@@ -27,8 +27,11 @@ struct BuildConfig {
     /// Width of the Gaussian, in triangles. Range (0, 1e9]. At n = sigma the resolution is
     /// 39% of the way from min to max, at n = 2 sigma 86%, at n = 3 sigma 99%.
     double resolution_sigma = 48.0;
-    /// A cell with at most this many triangles becomes a leaf. Range [1, 2^20].
-    std::uint32_t leaf_size = 4;
+    /// A cell with at most this many triangles becomes a leaf. Range [1, 2^20]. Equidistant
+    /// planes cut triangles wherever they fall, so small leaves cost references: on the
+    /// Stanford dragon (871k triangles) leaf size 4 gives 5.8 references per triangle and
+    /// 56 structure bytes per triangle, 8 gives 4.7 and 38.
+    std::uint32_t leaf_size = 8;
     /// Deepest inner node (the root is depth 0); cells of a node at this depth become leaves.
     /// Range [0, 64]; 64 also bounds the traversal stack.
     std::uint32_t max_depth = 32;

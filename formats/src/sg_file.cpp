@@ -1,0 +1,158 @@
+// Writing .sg files: the encoder and the atomic write. Reading and checking is in
+// sg_file_read.cpp; the record layouts are in sg_file_layout.hpp.
+
+#include "splitgrid/formats/sg_file.hpp"
+
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <span>
+
+#include "atomic_file.hpp"
+#include "checksum.hpp"
+#include "sg_file_layout.hpp"
+
+namespace sg {
+namespace {
+
+using detail::SgSection;
+
+detail::SgConfigRecord make_config_record(const SplitGrid& grid)
+{
+    // The structured binding stops compiling when a field is added to BuildConfig: the new
+    // field then needs a place in SgConfigRecord, docs/FORMAT.md and a new format version.
+    const auto& [resolution_min, resolution_max, resolution_sigma, leaf_size, max_depth,
+                 no_progress_fraction, min_cell_width, stop_by_cost, threads] = grid.config;
+    detail::SgConfigRecord r{};
+    r.resolution_min = resolution_min;
+    r.resolution_max = resolution_max;
+    r.resolution_sigma = resolution_sigma;
+    r.leaf_size = leaf_size;
+    r.max_depth = max_depth;
+    r.no_progress_fraction = no_progress_fraction;
+    r.min_cell_width = min_cell_width;
+    r.stop_by_cost = stop_by_cost ? 1u : 0u;
+    r.threads = threads;
+    r.triangle_count = grid.triangle_count;
+    r.root_lower = {grid.root_box.lower.x, grid.root_box.lower.y, grid.root_box.lower.z};
+    r.root_upper = {grid.root_box.upper.x, grid.root_box.upper.y, grid.root_box.upper.z};
+    r.root_index = grid.root.index();
+    r.root_count = grid.root.raw_count();
+    return r;
+}
+
+/// Byte position of each section, laid out one after the other from the end of the table,
+/// each starting on an 8-byte boundary.
+struct Layout {
+    std::array<detail::SgSectionEntry, detail::sg_section_count> table{};
+    std::uint64_t file_bytes = 0;
+};
+
+Layout plan_layout(const SgContents& contents)
+{
+    std::array<std::uint64_t, detail::sg_section_count> counts{};
+    counts[static_cast<std::size_t>(SgSection::config)] = 1;
+    counts[static_cast<std::size_t>(SgSection::name)] = contents.source_name.size();
+    counts[static_cast<std::size_t>(SgSection::vertices)] = contents.mesh.vertices.size();
+    counts[static_cast<std::size_t>(SgSection::triangles)] = contents.mesh.triangles.size();
+    counts[static_cast<std::size_t>(SgSection::nodes)] = contents.grid.nodes.size();
+    counts[static_cast<std::size_t>(SgSection::cells)] = contents.grid.cells.size();
+    counts[static_cast<std::size_t>(SgSection::triangle_refs)] =
+        contents.grid.triangle_refs.size();
+
+    Layout layout;
+    std::uint64_t offset = detail::sg_first_section_offset;
+    for (std::size_t i = 0; i < detail::sg_section_count; ++i) {
+        detail::SgSectionEntry& e = layout.table[i];
+        std::memcpy(e.tag.data(), detail::sg_section_specs[i].tag.data(), e.tag.size());
+        e.offset = offset;
+        e.count = counts[i];
+        e.bytes = counts[i] * detail::sg_section_specs[i].record_bytes;
+        offset = detail::align_up(offset + e.bytes);
+    }
+    layout.file_bytes = offset;
+    return layout;
+}
+
+/// Copies `count` records of trivially copyable type T to `out`.
+template <class T>
+void put_records(std::uint8_t* out, std::span<const T> records)
+{
+    if (!records.empty()) std::memcpy(out, records.data(), records.size_bytes());
+}
+
+detail::SgHeader make_header(std::uint64_t file_bytes)
+{
+    detail::SgHeader h{};
+    h.magic = detail::sg_magic;
+    h.format_version = sg_format_version;
+    h.endian_marker = detail::sg_endian_marker;
+    h.header_bytes = sizeof(detail::SgHeader);
+    h.section_entry_bytes = sizeof(detail::SgSectionEntry);
+    h.section_count = detail::sg_section_count;
+    h.file_bytes = file_bytes;
+    h.table_offset = sizeof(detail::SgHeader);
+    h.vertex_record_bytes = sizeof(Vec3f);
+    h.triangle_record_bytes = sizeof(Triangle);
+    h.node_record_bytes = sizeof(detail::SgNodeRecord);
+    h.cell_record_bytes = sizeof(detail::SgCellRecord);
+    h.triangle_ref_bytes = sizeof(TriangleRef);
+    h.config_record_bytes = sizeof(detail::SgConfigRecord);
+    return h;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encode_sg(const SgContents& contents)
+{
+    Layout layout = plan_layout(contents);
+    // Value-initialised: the gaps between sections and every reserved field are zero, which
+    // makes the encoding a pure function of `contents`.
+    std::vector<std::uint8_t> out(layout.file_bytes);
+    auto section_start = [&](SgSection s) {
+        return out.data() + layout.table[static_cast<std::size_t>(s)].offset;
+    };
+
+    const detail::SgConfigRecord config = make_config_record(contents.grid);
+    std::memcpy(section_start(SgSection::config), &config, sizeof config);
+    put_records(section_start(SgSection::name),
+                std::span<const char>(contents.source_name.data(), contents.source_name.size()));
+    put_records(section_start(SgSection::vertices), std::span<const Vec3f>(contents.mesh.vertices));
+    put_records(section_start(SgSection::triangles),
+                std::span<const Triangle>(contents.mesh.triangles));
+    // Nodes and cells go through their accessors: see SgNodeRecord for why.
+    std::uint8_t* node_out = section_start(SgSection::nodes);
+    for (const GridNode& node : contents.grid.nodes) {
+        const detail::SgNodeRecord r{node.lo, node.hi, node.first_cell(), node.axis_res_bits()};
+        std::memcpy(node_out, &r, sizeof r);
+        node_out += sizeof r;
+    }
+    std::uint8_t* cell_out = section_start(SgSection::cells);
+    for (const CellRef& cell : contents.grid.cells) {
+        const detail::SgCellRecord r{cell.index(), cell.raw_count()};
+        std::memcpy(cell_out, &r, sizeof r);
+        cell_out += sizeof r;
+    }
+    put_records(section_start(SgSection::triangle_refs),
+                std::span<const TriangleRef>(contents.grid.triangle_refs));
+
+    for (detail::SgSectionEntry& e : layout.table) {
+        e.crc32 = detail::crc32_of(std::span<const std::uint8_t>(
+            out.data() + e.offset, static_cast<std::size_t>(e.bytes)));
+    }
+    std::uint8_t* table_out = out.data() + sizeof(detail::SgHeader);
+    std::memcpy(table_out, layout.table.data(), sizeof layout.table);
+
+    detail::SgHeader header = make_header(layout.file_bytes);
+    header.header_crc32 = detail::sg_header_crc32(
+        header, std::span<const std::uint8_t>(table_out, sizeof layout.table));
+    std::memcpy(out.data(), &header, sizeof header);
+    return out;
+}
+
+void write_sg_file(const std::filesystem::path& path, const SgContents& contents)
+{
+    detail::write_file_atomically(path, encode_sg(contents));
+}
+
+}  // namespace sg

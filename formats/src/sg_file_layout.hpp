@@ -1,0 +1,217 @@
+#pragma once
+
+// On-disk records of the .sg format, version 1. docs/FORMAT.md describes the same layout for
+// readers in other languages; keep the two in step.
+//
+// The file is little-endian. The writer and reader copy these records to and from the byte
+// buffer with std::memcpy, so each record below is trivially copyable, has no padding (its
+// sizeof equals the sum of its fields) and only fixed-width fields. Padding and reserved bytes
+// are always written as zero, so writing the same contents twice gives identical bytes.
+
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+#include <type_traits>
+
+#include "splitgrid/grid_node.hpp"
+#include "splitgrid/mesh.hpp"
+#include "splitgrid/vec3.hpp"
+
+namespace sg::detail {
+
+static_assert(std::endian::native == std::endian::little,
+              "the .sg reader and writer copy little-endian records as bytes: porting to a "
+              "big-endian host needs byte swapping in sg_file.cpp and sg_file_read.cpp");
+
+/// First 8 bytes of every .sg file. Like PNG's signature: 0x89 (not ASCII, so a 7-bit
+/// channel corrupts it), "SGF", CR LF (changed by text-mode line-ending conversion), 0x1A
+/// (stops a DOS `type`), LF (changed by LF -> CRLF conversion).
+inline constexpr std::array<std::uint8_t, 8> sg_magic{0x89, 'S', 'G', 'F', '\r', '\n', 0x1A, '\n'};
+
+/// Written as the uint32 0x01020304: a file written big-endian would show 01 02 03 04.
+inline constexpr std::uint32_t sg_endian_marker = 0x01020304u;
+
+/// Sections start at multiples of this many bytes from the start of the file.
+inline constexpr std::uint64_t sg_section_alignment = 8;
+
+/// The fixed header at byte offset 0 (80 bytes).
+///
+///   offset  size  field
+///        0     8  magic                  sg_magic
+///        8     4  format_version         sg_format_version (1)
+///       12     4  endian_marker          0x01020304
+///       16     4  header_bytes           sizeof(SgHeader) = 80
+///       20     4  section_entry_bytes    sizeof(SgSectionEntry) = 32
+///       24     4  section_count          7 in version 1
+///       28     4  header_crc32           CRC-32 of the header (this field read as 0)
+///                                        followed by the section table
+///       32     8  file_bytes             size of the whole file
+///       40     8  table_offset           where the section table starts (= header_bytes)
+///       48     4  vertex_record_bytes    sizeof(Vec3f) = 12
+///       52     4  triangle_record_bytes  sizeof(Triangle) = 12
+///       56     4  node_record_bytes      sizeof(SgNodeRecord) = 16
+///       60     4  cell_record_bytes      sizeof(SgCellRecord) = 8
+///       64     4  triangle_ref_bytes     sizeof(TriangleRef) = 4
+///       68     4  config_record_bytes    sizeof(SgConfigRecord) = 88
+///       72     8  reserved               0
+struct SgHeader {
+    std::array<std::uint8_t, 8> magic;
+    std::uint32_t format_version;
+    std::uint32_t endian_marker;
+    std::uint32_t header_bytes;
+    std::uint32_t section_entry_bytes;
+    std::uint32_t section_count;
+    std::uint32_t header_crc32;
+    std::uint64_t file_bytes;
+    std::uint64_t table_offset;
+    std::uint32_t vertex_record_bytes;
+    std::uint32_t triangle_record_bytes;
+    std::uint32_t node_record_bytes;
+    std::uint32_t cell_record_bytes;
+    std::uint32_t triangle_ref_bytes;
+    std::uint32_t config_record_bytes;
+    std::uint64_t reserved;
+};
+static_assert(sizeof(SgHeader) == 80 && std::is_trivially_copyable_v<SgHeader> &&
+                  std::has_unique_object_representations_v<SgHeader>,
+              "SgHeader must be 80 bytes without padding: a field was added, removed or "
+              "reordered; update docs/FORMAT.md and the format version");
+static_assert(offsetof(SgHeader, header_crc32) == 28 && offsetof(SgHeader, file_bytes) == 32 &&
+                  offsetof(SgHeader, reserved) == 72,
+              "SgHeader field offsets differ from docs/FORMAT.md");
+
+/// One entry of the section table (32 bytes). The table follows the header.
+///
+///   offset  size  field
+///        0     4  tag      four ASCII characters, e.g. "VERT"
+///        4     4  crc32    CRC-32 (zlib) of the section's `bytes` bytes
+///        8     8  offset   from the start of the file, a multiple of 8
+///       16     8  bytes    length of the section (without the padding that follows it)
+///       24     8  count    records in the section; count * record size == bytes
+struct SgSectionEntry {
+    std::array<char, 4> tag;
+    std::uint32_t crc32;
+    std::uint64_t offset;
+    std::uint64_t bytes;
+    std::uint64_t count;
+};
+static_assert(sizeof(SgSectionEntry) == 32 && std::is_trivially_copyable_v<SgSectionEntry> &&
+                  std::has_unique_object_representations_v<SgSectionEntry>,
+              "SgSectionEntry must be 32 bytes without padding: update docs/FORMAT.md");
+
+/// The single record of the CONF section (88 bytes): every BuildConfig field, then the root
+/// of the grid.
+///
+///   offset  size  type     field
+///        0     4  uint32   resolution_min
+///        4     4  uint32   resolution_max
+///        8     8  float64  resolution_sigma
+///       16     4  uint32   leaf_size
+///       20     4  uint32   max_depth
+///       24     8  float64  no_progress_fraction
+///       32     8  float64  min_cell_width
+///       40     4  uint32   stop_by_cost (0 = false, 1 = true; nothing else)
+///       44     4  uint32   threads
+///       48     4  uint32   triangle_count (SplitGrid::triangle_count)
+///       52    12  3 x f32  root box lower corner x, y, z
+///       64    12  3 x f32  root box upper corner x, y, z
+///       76     4  uint32   root cell index   (CellRef layout, see grid_node.hpp)
+///       80     4  uint32   root cell count
+///       84     4  uint32   reserved, 0 (keeps the record a multiple of 8 bytes)
+struct SgConfigRecord {
+    std::uint32_t resolution_min;
+    std::uint32_t resolution_max;
+    double resolution_sigma;
+    std::uint32_t leaf_size;
+    std::uint32_t max_depth;
+    double no_progress_fraction;
+    double min_cell_width;
+    std::uint32_t stop_by_cost;
+    std::uint32_t threads;
+    std::uint32_t triangle_count;
+    std::array<float, 3> root_lower;
+    std::array<float, 3> root_upper;
+    std::uint32_t root_index;
+    std::uint32_t root_count;
+    std::uint32_t reserved;
+};
+static_assert(sizeof(SgConfigRecord) == 10 * 4 + 3 * 8 + 2 * 12 && sizeof(SgConfigRecord) == 88 &&
+                  std::is_trivially_copyable_v<SgConfigRecord>,
+              "SgConfigRecord must be 88 bytes without padding: a BuildConfig field was added? "
+              "Extend the record, docs/FORMAT.md and the format version");
+static_assert(offsetof(SgConfigRecord, stop_by_cost) == 40 &&
+                  offsetof(SgConfigRecord, triangle_count) == 48 &&
+                  offsetof(SgConfigRecord, root_index) == 76 &&
+                  offsetof(SgConfigRecord, reserved) == 84,
+              "SgConfigRecord field offsets differ from docs/FORMAT.md");
+
+/// One inner node (16 bytes), field for field the GridNode layout of grid_node.hpp. Written
+/// through GridNode's accessors rather than as a GridNode, because GridNode mixes public and
+/// private members and so is not standard-layout: its member order is not guaranteed.
+struct SgNodeRecord {
+    float lo;
+    float hi;
+    std::uint32_t first_cell;
+    std::uint32_t axis_res;
+};
+static_assert(sizeof(SgNodeRecord) == 2 * 4 + 2 * 4 && std::is_trivially_copyable_v<SgNodeRecord>,
+              "SgNodeRecord must be 16 bytes without padding (grid_node.hpp layout)");
+
+/// One cell (8 bytes), the CellRef layout of grid_node.hpp: index, then count (0 = empty,
+/// 0xFFFFFFFF = inner, else a leaf's reference count).
+struct SgCellRecord {
+    std::uint32_t index;
+    std::uint32_t count;
+};
+static_assert(sizeof(SgCellRecord) == 8 && std::is_trivially_copyable_v<SgCellRecord> &&
+                  std::has_unique_object_representations_v<SgCellRecord>,
+              "SgCellRecord must be 8 bytes without padding (grid_node.hpp layout)");
+
+// Vertices, triangles and triangle references are stored as the core's own records.
+static_assert(sizeof(Vec3f) == 12 && std::is_trivially_copyable_v<Vec3f>,
+              "Vec3f is stored as three float32");
+static_assert(sizeof(Triangle) == 12 && std::is_trivially_copyable_v<Triangle>,
+              "Triangle is stored as three uint32");
+static_assert(sizeof(TriangleRef) == 4 && std::is_trivially_copyable_v<TriangleRef>,
+              "TriangleRef is stored as one uint32");
+
+/// The sections of a version-1 file, in file order.
+enum class SgSection : std::size_t {
+    config,
+    name,
+    vertices,
+    triangles,
+    nodes,
+    cells,
+    triangle_refs,
+};
+inline constexpr std::size_t sg_section_count = 7;
+
+/// Tag and record size of each section, indexed by SgSection.
+struct SgSectionSpec {
+    std::string_view tag;
+    std::uint64_t record_bytes;
+};
+inline constexpr std::array<SgSectionSpec, sg_section_count> sg_section_specs{{
+    {"CONF", sizeof(SgConfigRecord)},
+    {"NAME", 1},  // UTF-8 bytes of the source mesh name, no terminator
+    {"VERT", sizeof(Vec3f)},
+    {"TRIS", sizeof(Triangle)},
+    {"NODE", sizeof(SgNodeRecord)},
+    {"CELL", sizeof(SgCellRecord)},
+    {"TREF", sizeof(TriangleRef)},
+}};
+
+/// Where the first section starts: right after the header and the table (already aligned).
+inline constexpr std::uint64_t sg_first_section_offset =
+    sizeof(SgHeader) + sg_section_count * sizeof(SgSectionEntry);
+static_assert(sg_first_section_offset % sg_section_alignment == 0);
+
+[[nodiscard]] constexpr std::uint64_t align_up(std::uint64_t n) noexcept
+{
+    return (n + sg_section_alignment - 1) / sg_section_alignment * sg_section_alignment;
+}
+
+}  // namespace sg::detail
