@@ -14,13 +14,7 @@ namespace {
 
 const Aabb box10{{0, 0, 0}, {10, 10, 10}};
 
-SplitGrid build_checked(const Mesh& mesh, const BuildConfig& config = {})
-{
-    SplitGrid grid = build_split_grid(mesh.view(), config);
-    check_invariants(grid);
-    check_coverage(grid, mesh.view());
-    return grid;
-}
+using test::build_checked;
 
 TEST(Builder, OutputIsIdenticalForEveryThreadCount)
 {

@@ -17,13 +17,7 @@
 namespace sg {
 namespace {
 
-SplitGrid build_checked(const Mesh& mesh, const BuildConfig& config = {})
-{
-    SplitGrid grid = build_split_grid(mesh.view(), config);
-    check_invariants(grid);
-    check_coverage(grid, mesh.view());
-    return grid;
-}
+using test::build_checked;
 
 void expect_agreement(const SplitGrid& grid, const Mesh& mesh, const std::vector<Ray>& rays,
                       std::size_t min_hits = 1)

@@ -2,9 +2,19 @@
 
 #include <cstdio>
 
+#include "splitgrid/builder.hpp"
 #include "splitgrid/traverse.hpp"
+#include "splitgrid/validate.hpp"
 
 namespace sg::test {
+
+SplitGrid build_checked(const Mesh& mesh, const BuildConfig& config)
+{
+    SplitGrid grid = build_split_grid(mesh.view(), config);
+    check_invariants(grid);
+    check_coverage(grid, mesh.view());
+    return grid;
+}
 
 bool same_closest_hit(const Hit& expected, const Hit& actual) noexcept
 {

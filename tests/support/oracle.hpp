@@ -22,6 +22,10 @@ struct OracleReport {
 /// triangle at exactly the same t.
 [[nodiscard]] bool same_closest_hit(const Hit& expected, const Hit& actual) noexcept;
 
+/// Builds a grid and runs both checkers on it (check_invariants, check_coverage), as every
+/// test build should.
+[[nodiscard]] SplitGrid build_checked(const Mesh& mesh, const BuildConfig& config = {});
+
 /// Runs intersect() and occluded() on every ray and compares with the brute-force answers.
 [[nodiscard]] OracleReport compare_with_brute_force(const SplitGrid& grid, const MeshView& mesh,
                                                     const std::vector<Ray>& rays);
