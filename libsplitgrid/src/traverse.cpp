@@ -66,10 +66,12 @@ struct PreparedRay {
 
 // A node whose cells are being walked, kept on the stack while a child is visited.
 struct Cursor {
+    CellMath cells;          // the node's cell mapping (its width computed once)
     std::uint32_t node;
     std::int32_t next_cell;  // next cell to visit, in ray order; -1 or N when done
     float t0;                // the ray's interval inside the node's slab
     float t1;
+    float next_enter;        // widened crossing into next_cell (the last cell's exit)
 };
 
 // Max stack depth: one cursor per ancestor of the deepest node (check_invariants bounds
@@ -103,7 +105,7 @@ public:
         while (sp_ > 0) {
             Cursor& cur = stack_[sp_ - 1];
             const GridNode& node = grid_.nodes[cur.node];
-            const std::uint32_t n = node.resolution();
+            const std::uint32_t n = cur.cells.n;
             const int axis = node.axis();
             if (cur.next_cell < 0 || cur.next_cell >= static_cast<std::int32_t>(n)) {
                 --sp_;
@@ -116,12 +118,13 @@ public:
                 cur.next_cell = -1;  // a parallel ray stays in the one cell it started in
                 if (c0 > best_t_) continue;
             } else {
-                const CellMath cm(node.lo, node.hi, n);
                 const bool forward = ray_.inv_dir[static_cast<std::size_t>(axis)] > 0.0f;
-                const float enter = ray_.crossing(axis, cm.boundary(forward ? i : i + 1));
-                const float leave = ray_.crossing(axis, cm.boundary(forward ? i + 1 : i));
-                c0 = std::max(c0, widen_down(enter));
+                const float leave = ray_.crossing(axis, cur.cells.boundary(forward ? i + 1 : i));
+                c0 = std::max(c0, cur.next_enter);
                 c1 = std::min(c1, widen_up(leave));
+                // The plane this cell is left through is the plane the next one is entered
+                // through: the same crossing, widened the other way.
+                cur.next_enter = widen_down(leave);
                 // Cells are in ray order: once one starts past the closest hit so far (or past
                 // the node), so do all after it.
                 if (c0 > std::min(cur.t1, best_t_)) {
@@ -159,6 +162,7 @@ private:
         const std::uint32_t n = node.resolution();
         const CellMath cm(node.lo, node.hi, n);
         std::uint32_t i;
+        float enter = t0;
         if (ray_.is_parallel[static_cast<std::size_t>(axis)]) {
             i = cm.locate_lowest(ray_.origin[axis]);
         } else {
@@ -172,8 +176,10 @@ private:
                 while (i + 1 < n && widen_down(ray_.crossing(axis, cm.boundary(i + 1))) > t0) ++i;
                 while (i > 0 && widen_up(ray_.crossing(axis, cm.boundary(i))) < t0) --i;
             }
+            const bool forward = ray_.inv_dir[static_cast<std::size_t>(axis)] > 0.0f;
+            enter = widen_down(ray_.crossing(axis, cm.boundary(forward ? i : i + 1)));
         }
-        stack_[sp_++] = Cursor{index, static_cast<std::int32_t>(i), t0, t1};
+        stack_[sp_++] = Cursor{cm, index, static_cast<std::int32_t>(i), t0, t1, enter};
     }
 
     bool test_leaf(CellRef cell) noexcept
@@ -209,7 +215,7 @@ private:
     float best_t_;
     bool found_ = false;
     Hit hit_;
-    std::array<Cursor, stack_size> stack_{};
+    std::array<Cursor, stack_size> stack_;  // not zeroed: only [0, sp_) is ever read
     std::size_t sp_ = 0;
 };
 

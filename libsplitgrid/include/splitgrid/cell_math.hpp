@@ -20,6 +20,8 @@ struct CellMath {
     std::uint32_t n;
     float width;  ///< (hi - lo) / n, rounded once
 
+    /// Uninitialised (trivial, so arrays of it cost nothing until written).
+    CellMath() = default;
     constexpr CellMath(float lo_, float hi_, std::uint32_t n_) noexcept
         : lo(lo_), hi(hi_), n(n_), width((hi_ - lo_) / static_cast<float>(n_))
     {
