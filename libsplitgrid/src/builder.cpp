@@ -372,6 +372,7 @@ SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
 
     SplitGrid grid;
     grid.config = config;
+    grid.config.threads = 0;  // the thread count does not change the result, so it is not kept
     grid.triangle_count = static_cast<std::uint32_t>(mesh.triangle_count());
     if (mesh.triangle_count() == 0) return grid;
 

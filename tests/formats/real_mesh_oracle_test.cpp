@@ -43,8 +43,8 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, RealMesh,
                                            "gltf/smallpine/scene.gltf",
                                            "scenes/crytek_sponza_columns_shrubbery_part.obj",
                                            "scenes/mountain.obj"),
-                         [](const ::testing::TestParamInfo<const char*>& info) {
-                             std::string name = std::filesystem::path(info.param).stem().string();
+                         [](const ::testing::TestParamInfo<const char*>& param_info) {
+                             std::string name = std::filesystem::path(param_info.param).stem().string();
                              for (char& c : name)
                                  if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                              return name;

@@ -26,7 +26,8 @@ struct SplitGrid {
     std::vector<TriangleRef> triangle_refs;
     /// Number of triangles in the mesh the grid was built for (ids are < triangle_count).
     std::uint32_t triangle_count = 0;
-    /// The parameters the grid was built with.
+    /// The parameters the grid was built with; `threads` is always 0 (the result does not
+    /// depend on it, so files built with any thread count are byte-identical).
     BuildConfig config;
 
     /// Bytes of the three arrays plus the root record: what traversal reads besides the mesh.
