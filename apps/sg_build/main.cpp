@@ -1,0 +1,192 @@
+/// sg-build: reads any mesh Assimp can read, builds its Split Grid and writes both to a .sg
+/// file. Prints a short summary (or one JSON object with --json) on stdout.
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "cli_common.hpp"
+#include "splitgrid/builder.hpp"
+#include "splitgrid/error.hpp"
+#include "splitgrid/formats/mesh_import.hpp"
+#include "splitgrid/formats/sg_file.hpp"
+#include "splitgrid/stats.hpp"
+#include "splitgrid/validate.hpp"
+#include "splitgrid/version.hpp"
+
+#include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+using sg::apps::Json;
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+    fs::path mesh;
+    fs::path output;
+    sg::BuildConfig config;
+    bool json = false;
+    sg::apps::LogOptions log;
+};
+
+/// Progress reporting for the builder. Short builds stay silent; once a build has run for
+/// more than two seconds it reports at most once a second, so a long build shows it is alive
+/// without flooding the terminal.
+class ProgressLog {
+public:
+    explicit ProgressLog(Clock::time_point start) : start_(start) {}
+
+    // The builder calls this under its own lock, so no synchronisation is needed here.
+    void operator()(double fraction_done)
+    {
+        const double elapsed = sg::apps::seconds_since(start_);
+        if (elapsed < quiet_seconds || elapsed < last_report_ + report_interval) return;
+        last_report_ = elapsed;
+        spdlog::info("building: {:.0f}% of triangles placed after {:.1f} s",
+                     100.0 * fraction_done, elapsed);
+    }
+
+private:
+    static constexpr double quiet_seconds = 2.0;
+    static constexpr double report_interval = 1.0;
+    Clock::time_point start_;
+    double last_report_ = 0.0;
+};
+
+/// Logs what the importer skipped and dropped: a user whose mesh lost triangles must hear it.
+void log_import_report(const fs::path& path, const sg::ImportReport& report,
+                       std::size_t triangles_kept)
+{
+    spdlog::debug("{}: {} meshes, {} faces, {} triangles read, {} kept, {} vertices",
+                  path.string(), report.meshes, report.faces_read, report.triangles_read,
+                  triangles_kept, report.vertices);
+    for (const std::string& warning : report.warnings) spdlog::warn("{}", warning);
+    if (report.points_skipped != 0 || report.lines_skipped != 0)
+        spdlog::warn("{}: skipped {} point and {} line primitives (not triangles)",
+                     path.string(), report.points_skipped, report.lines_skipped);
+    if (report.nonfinite_dropped != 0)
+        spdlog::warn("{}: dropped {} triangles with NaN or infinite corners", path.string(),
+                     report.nonfinite_dropped);
+    if (report.degenerate_dropped != 0)
+        spdlog::warn("{}: dropped {} zero-area triangles", path.string(),
+                     report.degenerate_dropped);
+}
+
+/// A freshly built grid that breaks its invariants is a bug in the builder, not a bad input
+/// file: report it as an internal error (exit code 3) rather than the FormatError the checker
+/// throws for files.
+void check_built_grid(const sg::SplitGrid& grid)
+{
+    try {
+        sg::check_invariants(grid);
+    } catch (const sg::FormatError& e) {
+        throw std::logic_error(std::string("built grid fails its invariants: ") + e.what());
+    }
+}
+
+void build(const Options& options)
+{
+    // Fail on an impossible output path now, not after a long import and build.
+    sg::apps::check_output_path(options.output);
+
+    const auto import_start = Clock::now();
+    sg::ImportedMesh imported = sg::import_mesh(options.mesh);
+    const double import_seconds = sg::apps::seconds_since(import_start);
+    const sg::ImportReport report = imported.report;
+    const std::size_t triangles_kept = imported.mesh.triangles.size();
+    const std::size_t vertex_count = imported.mesh.vertices.size();
+    log_import_report(options.mesh, report, triangles_kept);
+
+    const auto build_start = Clock::now();
+    sg::SplitGrid grid = sg::build_split_grid(imported.mesh.view(), options.config,
+                                              ProgressLog(build_start));
+    const double build_seconds = sg::apps::seconds_since(build_start);
+    check_built_grid(grid);
+    const sg::GridStats stats = sg::compute_stats(grid);
+
+    const auto write_start = Clock::now();
+    const sg::SgContents contents{std::move(imported.mesh), std::move(grid),
+                                  options.mesh.filename().string()};
+    sg::write_sg_file(options.output, contents);
+    const double write_seconds = sg::apps::seconds_since(write_start);
+    const std::size_t file_bytes = static_cast<std::size_t>(fs::file_size(options.output));
+    spdlog::debug("wrote {} ({} bytes)", options.output.string(), file_bytes);
+
+    const std::size_t dropped = report.nonfinite_dropped + report.degenerate_dropped;
+    if (options.json) {
+        Json j;
+        j["schema_version"] = sg::apps::json_schema_version;
+        j["splitgrid_version"] = sg::version_string;
+        j["input"] = options.mesh.string();
+        j["output"] = options.output.string();
+        j["import"] = {{"meshes", report.meshes},
+                       {"faces_read", report.faces_read},
+                       {"triangles_read", report.triangles_read},
+                       {"points_skipped", report.points_skipped},
+                       {"lines_skipped", report.lines_skipped},
+                       {"nonfinite_dropped", report.nonfinite_dropped},
+                       {"degenerate_dropped", report.degenerate_dropped},
+                       {"triangles_kept", triangles_kept},
+                       {"vertices", vertex_count},
+                       {"warnings", report.warnings}};
+        j["build_config"] = sg::apps::to_json(options.config);
+        j["grid"] = {{"triangle_count", stats.triangle_count},
+                     {"node_count", stats.node_count},
+                     {"cell_count", stats.cell_count},
+                     {"reference_count", stats.reference_count},
+                     {"max_depth", stats.max_depth},
+                     {"duplication_factor", stats.duplication_factor},
+                     {"structure_bytes", stats.structure_bytes},
+                     {"structure_bytes_per_triangle", stats.structure_bytes_per_triangle}};
+        j["file"] = {{"bytes", file_bytes},
+                     {"bytes_per_triangle", sg::apps::per_triangle(file_bytes, triangles_kept)}};
+        j["seconds"] = {
+            {"import", import_seconds}, {"build", build_seconds}, {"write", write_seconds}};
+        std::cout << j.dump(2) << '\n';
+        return;
+    }
+    std::cout << fmt::format(
+        "input       {}\n"
+        "triangles   {} read, {} dropped ({} non-finite, {} zero-area), {} kept; "
+        "{} points and {} lines skipped\n"
+        "grid        {} nodes, {} cells, {} references (duplication {:.2f}), max depth {}\n"
+        "structure   {} ({:.1f} bytes/triangle)\n"
+        "file        {} ({:.1f} bytes/triangle) {}\n"
+        "time        import {:.3f} s, build {:.3f} s, write {:.3f} s\n",
+        options.mesh.string(), report.triangles_read, dropped, report.nonfinite_dropped,
+        report.degenerate_dropped, triangles_kept, report.points_skipped, report.lines_skipped,
+        stats.node_count, stats.cell_count, stats.reference_count, stats.duplication_factor,
+        stats.max_depth, sg::apps::human_bytes(stats.structure_bytes),
+        stats.structure_bytes_per_triangle, sg::apps::human_bytes(file_bytes),
+        sg::apps::per_triangle(file_bytes, triangles_kept), options.output.string(),
+        import_seconds, build_seconds, write_seconds);
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    Options options;
+    CLI::App app{"", "sg-build"};
+    sg::apps::describe_tool(
+        app,
+        "Builds the Split Grid of a mesh and writes mesh and grid to a .sg file.\n"
+        "MESH is any file Assimp reads (obj, ply, stl, off, gltf/glb, dae, fbx, 3ds, ...);\n"
+        "all its meshes are merged with their node transforms applied.",
+        "Resolution of a node with n triangles (the Gaussian resolution function):\n"
+        "  N(n) = round(min + (max - min) * (1 - exp(-(n / sigma)^2 / 2)))\n"
+        "with min = --resolution-min, max = --resolution-max, sigma = --resolution-sigma.\n"
+        "On failure no output file is left behind (the file is written atomically).");
+    app.add_option("MESH", options.mesh, "Input mesh file")->required();
+    app.add_option("-o,--output", options.output, "Output .sg file")->required();
+    app.add_flag("--json", options.json, "Print one JSON object (docs/STATS_JSON.md) instead "
+                                         "of the summary");
+    sg::apps::add_build_config_flags(app, options.config);
+    sg::apps::add_log_flags(app, options.log);
+    return sg::apps::run_tool(app, argc, argv, options.log, [&] { build(options); });
+}
