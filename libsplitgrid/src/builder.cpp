@@ -181,9 +181,13 @@ private:
             // The whole triangles' extent, not the clipped one: clipped pieces shrink with the
             // cells, and a cap on them would let every level slice finer than the last.
             double extent_sum = 0.0;
+            std::size_t kept = 0;
             for (const TriExtent& e : extents)
-                if (!e.is_empty) extent_sum += e.size[axis];
-            const double mean_extent = extent_sum / static_cast<double>(n);
+                if (!e.is_empty) {
+                    extent_sum += e.size[axis];
+                    ++kept;
+                }
+            const double mean_extent = kept > 0 ? extent_sum / static_cast<double>(kept) : 0.0;
             const double cap = (double(split.hi) - split.lo) / (config_.min_cell_width * mean_extent);
             if (mean_extent > 0.0 && cap < split.resolution)
                 split.resolution = static_cast<std::uint32_t>(std::max(2.0, std::floor(cap)));
@@ -379,9 +383,11 @@ SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
     const Aabb scene = bounds(mesh);
     const float pad = boundary_pad(scene);
     grid.root_box = scene;
+    // Kept finite: next to +-FLT_MAX the pad is lost rather than turned into infinity.
+    constexpr float float_max = std::numeric_limits<float>::max();
     for (int k = 0; k < 3; ++k) {
-        grid.root_box.lower[k] = scene.lower[k] - pad;
-        grid.root_box.upper[k] = scene.upper[k] + pad;
+        grid.root_box.lower[k] = std::max(-float_max, scene.lower[k] - pad);
+        grid.root_box.upper[k] = std::min(float_max, scene.upper[k] + pad);
     }
 
     std::vector<std::uint32_t> all(mesh.triangle_count());

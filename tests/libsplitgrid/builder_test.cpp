@@ -157,6 +157,22 @@ TEST(Builder, FarFromTheOriginStaysExact)
     EXPECT_EQ(r.closest_disagreements + r.any_hit_disagreements, 0u) << r.first_failure;
 }
 
+TEST(Builder, HugeCoordinatesStillSplitAndAgree)
+{
+    // 1e15: near the top of the range the float triangle test supports (products of two
+    // coordinate differences must stay below FLT_MAX).
+    const float big = 1e15f;
+    const Mesh mesh = test::random_triangles(9, 3000, Aabb{{-big, -big, -big}, {big, big, big}},
+                                            big / 20.0f);
+    const SplitGrid grid = build_checked(mesh);
+    EXPECT_GT(grid.nodes.size(), 10u);
+    const Aabb inner{{-big / 2, -big / 2, -big / 2}, {big / 2, big / 2, big / 2}};
+    const auto rays = test::rays_at_triangles(10, 3000, inner, mesh.view());
+    const auto r = test::compare_with_brute_force(grid, mesh.view(), rays);
+    EXPECT_EQ(r.closest_disagreements + r.any_hit_disagreements, 0u) << r.first_failure;
+    EXPECT_GT(r.hits, 1000u);
+}
+
 TEST(Builder, ProgressReachesOneAndNeverGoesBack)
 {
     const Mesh mesh = test::random_triangles(8, 20000, box10, 0.2f);

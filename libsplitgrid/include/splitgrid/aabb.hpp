@@ -45,7 +45,10 @@ struct Aabb {
     [[nodiscard]] constexpr double surface_area() const noexcept
     {
         if (is_empty()) return 0.0;
-        const double dx = extent(0), dy = extent(1), dz = extent(2);
+        // Extents in double: a float extent of a box near +-FLT_MAX overflows to infinity.
+        const double dx = double(upper.x) - lower.x;
+        const double dy = double(upper.y) - lower.y;
+        const double dz = double(upper.z) - lower.z;
         return 2.0 * (dx * dy + dy * dz + dz * dx);
     }
     [[nodiscard]] constexpr bool contains(const Aabb& b) const noexcept

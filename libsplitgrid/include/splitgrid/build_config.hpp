@@ -41,7 +41,7 @@ struct BuildConfig {
     /// other axes, by decreasing extent, before the node becomes a leaf. Range (0, 1].
     double no_progress_fraction = 0.9;
     /// Cells are never made narrower than this many times the mean extent, along the split
-    /// axis, of the node's triangles (clipped to the node): the resolution is capped at
+    /// axis, of the node's whole (unclipped) triangles: the resolution is capped at
     /// (hi - lo) / (min_cell_width * mean extent). Slicing finer than the triangles only
     /// copies references. Range [0, 1e6]; 0 disables the cap.
     double min_cell_width = 1.0;

@@ -11,6 +11,10 @@ namespace sg {
 /// The direction need not be normalised; t is measured in units of |d|.
 /// Direction components with magnitude below FLT_MIN (denormals) are treated as zero by
 /// every query, so that 1/d never overflows.
+/// Range: the ray/triangle test works in float, so products of two coordinate differences
+/// must stay normal floats: triangle sizes and coordinates between about 1e-18 and 1e18.
+/// Outside it products underflow or overflow and hits are lost, by the grid and the
+/// brute-force reference alike (nothing crashes); scale such scenes.
 struct Ray {
     Vec3f origin;
     Vec3f direction;
