@@ -180,7 +180,9 @@ int main(int argc, char** argv)
         "all its meshes are merged with their node transforms applied.",
         "Resolution of a node with n triangles (the Gaussian resolution function):\n"
         "  N(n) = round(min + (max - min) * (1 - exp(-(n / sigma)^2 / 2)))\n"
-        "with min = --resolution-min, max = --resolution-max, sigma = --resolution-sigma.\n"
+        "with min = --resolution-min, max = --resolution-max, sigma = --resolution-sigma,\n"
+        "then capped so cells are at least --min-cell-width mean triangle extents wide\n"
+        "(docs/SPLIT_GRID.md).\n"
         "On failure no output file is left behind (the file is written atomically).");
     app.add_option("MESH", options.mesh, "Input mesh file")->required();
     app.add_option("-o,--output", options.output, "Output .sg file")->required();
