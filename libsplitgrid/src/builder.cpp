@@ -17,6 +17,7 @@
 #include "splitgrid/clip.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/resolution.hpp"
+#include "splitgrid/stats.hpp"
 
 namespace sg {
 namespace {
@@ -115,7 +116,7 @@ public:
         bool found = false;
         for (int axis : axes) {
             if (!(tight.extent(axis) > 0.0f)) break;
-            if (try_split(box, tight, axis, tris, extents, split)) {
+            if (try_split(box, tight, axis, extents, split)) {
                 found = true;
                 break;
             }
@@ -143,9 +144,7 @@ public:
         node->cells.resize(resolution);
         auto build_children = [&](std::size_t begin, std::size_t end) {
             for (std::size_t c = begin; c < end; ++c) {
-                Aabb child = box;
-                child.lower[axis] = cm.boundary(static_cast<std::uint32_t>(c));
-                child.upper[axis] = cm.boundary(static_cast<std::uint32_t>(c) + 1);
+                const Aabb child = cm.cell_box(box, axis, static_cast<std::uint32_t>(c));
                 const double share = weight * static_cast<double>(cell_tris[c].size()) /
                                      static_cast<double>(total_refs);
                 node->cells[c] = build_cell(child, std::move(cell_tris[c]), depth + 1, share);
@@ -165,12 +164,11 @@ public:
 
 private:
     // Fills `split` for `axis` and says whether it makes progress (BuildConfig's
-    // no_progress_fraction).
+    // no_progress_fraction and stop_by_cost).
     bool try_split(const Aabb& box, const Aabb& tight, int axis,
-                   const std::vector<std::uint32_t>& tris, const std::vector<TriExtent>& extents,
-                   Split& split) const
+                   const std::vector<TriExtent>& extents, Split& split) const
     {
-        const std::size_t n = tris.size();
+        const std::size_t n = extents.size();
         // Bounding planes: the tight extent widened by the pad (so points a few ulps off a
         // triangle stay inside), kept within the node's box.
         split.axis = axis;
@@ -228,20 +226,10 @@ private:
         Aabb slab = box;
         slab.lower[axis] = split.lo;
         slab.upper[axis] = split.hi;
-        const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-        const double slab_area = slab.surface_area();
-        const double crossings = slab_area > 0.0 ? (split.resolution - 1) * 2.0 *
-                                                       double(slab.extent(a1)) * slab.extent(a2) /
-                                                       slab_area
-                                                 : 0.0;
-        double cost = 1.0 + probability(slab) * (1.0 + crossings);
-        for (std::uint32_t c = 0; c < split.resolution; ++c) {
-            if (split.counts[c] == 0) continue;
-            Aabb cell = box;
-            cell.lower[axis] = cm.boundary(c);
-            cell.upper[axis] = cm.boundary(c + 1);
-            cost += probability(cell) * split.counts[c];
-        }
+        double cost =
+            1.0 + probability(slab) * expected_cells_crossed(slab, axis, split.resolution);
+        for (std::uint32_t c = 0; c < split.resolution; ++c)
+            if (split.counts[c] > 0) cost += probability(cm.cell_box(box, axis, c)) * split.counts[c];
         return cost < static_cast<double>(n);
     }
 

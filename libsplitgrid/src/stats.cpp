@@ -22,6 +22,14 @@ void bump(std::vector<std::size_t>& histogram, std::size_t bucket)
 
 }  // namespace
 
+double expected_cells_crossed(const Aabb& slab, int axis, std::uint32_t resolution) noexcept
+{
+    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+    const double plane_area = double(slab.extent(a1)) * slab.extent(a2);
+    const double slab_area = slab.surface_area();
+    return 1.0 + (slab_area > 0.0 ? (resolution - 1) * 2.0 * plane_area / slab_area : 0.0);
+}
+
 GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
 {
     GridStats s;
@@ -93,20 +101,13 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
         Aabb slab = p.box;
         slab.lower[axis] = node.lo;
         slab.upper[axis] = node.hi;
-        const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-        const double plane_area = double(slab.extent(a1)) * slab.extent(a2);
-        const double slab_area = slab.surface_area();
-        const double crossings =
-            slab_area > 0.0 ? (n - 1) * 2.0 * plane_area / slab_area : 0.0;
         s.sah_cost += probability(p.box) * model.node_cost +
-                      probability(slab) * model.cell_cost * (1.0 + crossings);
+                      probability(slab) * model.cell_cost * expected_cells_crossed(slab, axis, n);
 
         const CellMath cm(node.lo, node.hi, n);
         for (std::uint32_t i = 0; i < n; ++i) {
             const CellRef& cell = grid.cells[node.first_cell() + i];
-            Aabb box = p.box;
-            box.lower[axis] = cm.boundary(i);
-            box.upper[axis] = cm.boundary(i + 1);
+            const Aabb box = cm.cell_box(p.box, axis, i);
             if (cell.is_empty()) ++s.empty_cells;
             if (cell.is_leaf()) add_leaf(cell, box, p.depth + 1);
             if (cell.is_inner()) {

@@ -18,6 +18,14 @@ constexpr float t_pad = 0x1p-20f;
 float widen_down(float t) noexcept { return t * (t > 0.0f ? 1.0f - t_pad : 1.0f + t_pad); }
 float widen_up(float t) noexcept { return t * (t > 0.0f ? 1.0f + t_pad : 1.0f - t_pad); }
 
+// Direction components below FLT_MIN count as zero (ray.hpp), so 1/d never overflows.
+Vec3f flush_denormals(Vec3f d) noexcept
+{
+    for (int k = 0; k < 3; ++k)
+        if (std::abs(d[k]) < std::numeric_limits<float>::min()) d[k] = 0.0f;
+    return d;
+}
+
 // The ray as every part of the traversal sees it.
 struct PreparedRay {
     Vec3f origin;
@@ -29,12 +37,11 @@ struct PreparedRay {
     WatertightRay watertight;
 
     explicit PreparedRay(const Ray& ray) noexcept
-        : origin(ray.origin), direction(ray.direction), inv_dir{}, is_parallel{},
+        : origin(ray.origin), direction(flush_denormals(ray.direction)), inv_dir{}, is_parallel{},
           t_min(ray.t_min), t_max(ray.t_max)
     {
         for (int k = 0; k < 3; ++k) {
             const auto uk = static_cast<std::size_t>(k);
-            if (std::abs(direction[k]) < std::numeric_limits<float>::min()) direction[k] = 0.0f;
             is_parallel[uk] = direction[k] == 0.0f;
             inv_dir[uk] = is_parallel[uk] ? 0.0f : 1.0f / direction[k];
         }
@@ -224,9 +231,7 @@ bool brute_force(const MeshView& mesh, const Ray& ray, Hit& hit) noexcept
 {
     if (!is_valid(ray)) return false;
     Ray flushed = ray;
-    for (int k = 0; k < 3; ++k)
-        if (std::abs(flushed.direction[k]) < std::numeric_limits<float>::min())
-            flushed.direction[k] = 0.0f;
+    flushed.direction = flush_denormals(ray.direction);
     const WatertightRay wr(flushed);
     bool found = false;
     float best = ray.t_max;

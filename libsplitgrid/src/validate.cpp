@@ -107,10 +107,7 @@ void check_invariants(const SplitGrid& grid)
             const CellRef& cell = grid.cells[node.first_cell() + i];
             check_cell(grid, cell, where + " cell " + std::to_string(i), refs_seen);
             if (!cell.is_inner()) continue;
-            Aabb child = p.box;
-            child.lower[axis] = cm.boundary(i);
-            child.upper[axis] = cm.boundary(i + 1);
-            pending.push_back({cell.child(), p.depth + 1, child});
+            pending.push_back({cell.child(), p.depth + 1, cm.cell_box(p.box, axis, i)});
         }
     }
     if (nodes_reached != grid.nodes.size())
@@ -168,10 +165,7 @@ void check_triangle(const SplitGrid& grid, std::uint32_t tri, const Vec3d (&v)[3
     const std::uint32_t c1 = cm.locate_highest(
         std::nextafter(static_cast<float>(tmax), std::numeric_limits<float>::infinity()));
     for (std::uint32_t i = c0; i <= c1 && i < n; ++i) {
-        Aabb child = box;
-        child.lower[axis] = cm.boundary(i);
-        child.upper[axis] = cm.boundary(i + 1);
-        check_triangle(grid, tri, v, grid.cells[node.first_cell() + i], child,
+        check_triangle(grid, tri, v, grid.cells[node.first_cell() + i], cm.cell_box(box, axis, i),
                        name + " cell " + std::to_string(i));
     }
 }

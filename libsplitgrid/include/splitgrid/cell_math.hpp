@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "splitgrid/aabb.hpp"
+
 namespace sg {
 
 /// The single mapping between cell indices and coordinates along a node's axis. The builder
@@ -33,6 +35,17 @@ struct CellMath {
         if (i == 0) return lo;
         if (i >= n) return hi;
         return std::min(hi, lo + static_cast<float>(i) * width);
+    }
+
+    /// Box of cell i of a node whose box is `node_box` and whose axis is `axis`: the node box
+    /// narrowed on that axis to [boundary(i), boundary(i + 1)].
+    [[nodiscard]] constexpr Aabb cell_box(const Aabb& node_box, int axis,
+                                          std::uint32_t i) const noexcept
+    {
+        Aabb box = node_box;
+        box.lower[axis] = boundary(i);
+        box.upper[axis] = boundary(i + 1);
+        return box;
     }
 
     /// A guess of the cell holding coordinate x, clamped to [0, n - 1]. Exact callers correct

@@ -61,6 +61,12 @@ struct GridStats {
     CostModel cost_model;
 };
 
+/// Expected number of cells a random ray crossing `slab` steps through, for a node that cuts
+/// the slab into `resolution` cells along `axis`: 1 + (N - 1) * 2A / SA(slab), A being the area
+/// of one cell plane (see GridStats::sah_cost). 1 for a slab without surface area.
+[[nodiscard]] double expected_cells_crossed(const Aabb& slab, int axis,
+                                            std::uint32_t resolution) noexcept;
+
 /// Walks the whole grid once. Precondition: check_invariants(grid) passes.
 [[nodiscard]] GridStats compute_stats(const SplitGrid& grid, const CostModel& model = {});
 
