@@ -42,12 +42,13 @@ float round_up(double x) noexcept
 }
 
 // Clipped extent of one triangle inside a node box, in floats rounded outward, and the
-// size of the whole (unclipped) triangle.
+// size of the whole (unclipped) triangle. `known` is false for an extent not computed yet.
 struct TriExtent {
     Vec3f lower;
     Vec3f upper;
     Vec3f size;
     bool is_empty = false;
+    bool known = false;
 };
 
 // A candidate split of a node: axis, bounding planes, resolution and each triangle's cells.
@@ -85,10 +86,11 @@ public:
     }
 
     // Builds the cell covering `box` for the triangles `tris` (all known to touch the padded
-    // box), as a node at `depth`, or a leaf when splitting does not pay. `weight` is this
-    // cell's share of the whole build, for progress reports.
-    BuiltCell build_cell(const Aabb& box, std::vector<std::uint32_t> tris, std::uint32_t depth,
-                         double weight)
+    // box), as a node at `depth`, or a leaf when splitting does not pay. `extents` is empty or
+    // holds, per triangle, its clipped extent in this box where the parent already knew it.
+    // `weight` is this cell's share of the whole build, for progress reports.
+    BuiltCell build_cell(const Aabb& box, std::vector<std::uint32_t> tris,
+                         std::vector<TriExtent> extents, std::uint32_t depth, double weight)
     {
         BuiltCell cell;
         if (tris.empty()) return cell;
@@ -96,10 +98,11 @@ public:
             return make_leaf(std::move(tris), weight);
 
         const std::size_t n = tris.size();
-        std::vector<TriExtent> extents(n);
+        extents.resize(n);
         const Aabbd clip_box = Aabbd::from(box).padded(pad_);
         auto clip_range = [&](std::size_t begin, std::size_t end) {
-            for (std::size_t k = begin; k < end; ++k) extents[k] = clipped_extent(tris[k], clip_box);
+            for (std::size_t k = begin; k < end; ++k)
+                if (!extents[k].known) extents[k] = clipped_extent(tris[k], clip_box);
         };
         run(n, clip_range);
 
@@ -122,19 +125,31 @@ public:
             }
         }
         if (!found) return make_leaf(std::move(tris), weight);
-        extents = {};
         const int axis = split.axis;
         const std::uint32_t resolution = split.resolution;
         const CellMath cm(split.lo, split.hi, resolution);
         std::size_t total_refs = 0;
         for (std::uint32_t c : split.counts) total_refs += c;
 
+        // A triangle whose padded extent lies in one cell keeps its clipped extent there: the
+        // cell's padded box differs from this one only on `axis`, where it still contains the
+        // clipped piece, so clipping again would give the same piece. Only triangles that
+        // straddle cells are clipped again by the children (most are not).
         std::vector<std::vector<std::uint32_t>> cell_tris(resolution);
-        for (std::uint32_t c = 0; c < resolution; ++c) cell_tris[c].reserve(split.counts[c]);
-        for (std::size_t k = 0; k < n; ++k)
-            for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c)
+        std::vector<std::vector<TriExtent>> cell_extents(resolution);
+        for (std::uint32_t c = 0; c < resolution; ++c) {
+            cell_tris[c].reserve(split.counts[c]);
+            cell_extents[c].reserve(split.counts[c]);
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+            const bool single_cell = split.first[k] == split.last[k];
+            for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c) {
                 cell_tris[c].push_back(tris[k]);
+                cell_extents[c].push_back(single_cell ? extents[k] : TriExtent{});
+            }
+        }
         tris = {};
+        extents = {};
         split = {};
 
         auto node = std::make_unique<BuiltNode>();
@@ -147,7 +162,8 @@ public:
                 const Aabb child = cm.cell_box(box, axis, static_cast<std::uint32_t>(c));
                 const double share = weight * static_cast<double>(cell_tris[c].size()) /
                                      static_cast<double>(total_refs);
-                node->cells[c] = build_cell(child, std::move(cell_tris[c]), depth + 1, share);
+                node->cells[c] = build_cell(child, std::move(cell_tris[c]),
+                                            std::move(cell_extents[c]), depth + 1, share);
             }
         };
         if (n >= parallel_grain)
@@ -251,6 +267,7 @@ private:
         const Vec3d c(mesh_.vertex(tri, 2));
         Aabbd clipped;
         TriExtent e;
+        e.known = true;
         if (!clip_triangle_bounds(a, b, c, clip_box, clipped)) {
             e.is_empty = true;
             return e;
@@ -385,7 +402,7 @@ SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
     tbb::task_arena arena(config.threads == 0 ? tbb::task_arena::automatic
                                               : static_cast<int>(config.threads));
     BuiltCell root;
-    arena.execute([&] { root = builder.build_cell(grid.root_box, std::move(all), 0, 1.0); });
+    arena.execute([&] { root = builder.build_cell(grid.root_box, std::move(all), {}, 0, 1.0); });
     grid.root = flatten(root, grid);
     return grid;
 }
