@@ -48,8 +48,10 @@ ReadBack read_back(vtkImageReader2* reader, const fs::path& path)
     image.height = dims[1];
     image.components = data->GetNumberOfScalarComponents();
     const auto* p = static_cast<const unsigned char*>(data->GetScalarPointer());
-    image.bytes.assign(p, p + static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) *
-                                  static_cast<std::size_t>(image.components));
+    const std::size_t count = static_cast<std::size_t>(dims[0]) *
+                              static_cast<std::size_t>(dims[1]) *
+                              static_cast<std::size_t>(image.components);
+    image.bytes.assign(p, p + count);
     return image;
 }
 

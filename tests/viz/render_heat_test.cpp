@@ -110,7 +110,8 @@ TEST_P(HeatMap, LegendBarRisesInLightnessFromZeroToTheTop)
     // The labels are text: bright pixels beside the bar, where the map itself is not.
     std::size_t bright = 0;
     for (int y = legend.panel_y; y < legend.panel_y + legend.panel_height; ++y)
-        for (int x = legend.bar_x + legend.bar_width + 2; x < legend.panel_x + legend.panel_width; ++x)
+        for (int x = legend.bar_x + legend.bar_width + 2; x < legend.panel_x + legend.panel_width;
+             ++x)
             if (luminance(image_.at(x, y)) > 0.3) ++bright;
     EXPECT_GT(bright, 20u) << "no label text in the legend";
     EXPECT_EQ(legend.labels.front(), "0");
@@ -208,7 +209,8 @@ TEST_P(HeatMap, TooSmallForTheLegendStillColoursEveryPixel)
 INSTANTIATE_TEST_SUITE_P(Modes, HeatMap,
                          ::testing::Values(RenderMode::heat_cells, RenderMode::heat_triangles),
                          [](const auto& param_info) {
-                             return param_info.param == RenderMode::heat_cells ? "cells" : "triangles";
+                             return param_info.param == RenderMode::heat_cells ? "cells"
+                                                                               : "triangles";
                          });
 
 }  // namespace

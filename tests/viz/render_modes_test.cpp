@@ -46,7 +46,8 @@ protected:
         scene_.grid = build_checked(scene_.mesh);
         settings_.width = 48;
         settings_.height = 36;
-        settings_.camera = Camera{{0.1f, 0.05f, 0.0f}, {0.0f, 0.2f, -1.0f}, {0.0f, 1.0f, 0.0f}, 90.0f};
+        settings_.camera =
+            Camera{{0.1f, 0.05f, 0.0f}, {0.0f, 0.2f, -1.0f}, {0.0f, 1.0f, 0.0f}, 90.0f};
     }
     Scene scene_;
     RenderSettings settings_;
@@ -86,7 +87,8 @@ protected:
         settings_.width = 40;
         settings_.height = 30;
         // From 5 units above the centre, a 40-degree view stays well inside the floor.
-        settings_.camera = Camera{{4.0f, 5.0f, 4.0f}, {4.0f, 0.0f, 4.0f}, {0.0f, 0.0f, -1.0f}, 40.0f};
+        settings_.camera =
+            Camera{{4.0f, 5.0f, 4.0f}, {4.0f, 0.0f, 4.0f}, {0.0f, 0.0f, -1.0f}, 40.0f};
     }
     Scene scene_;
     RenderSettings settings_;

@@ -38,7 +38,8 @@ inline Scene sphere_floor_scene()
     Scene scene;
     scene.mesh = axis_plane(1, 0.0f, 8);
     append(scene.mesh, uv_sphere({4.0f, 1.5f, 4.0f}, 1.5f, 16, 32));
-    append(scene.mesh, random_triangles(7, 300, Aabb{{0.5f, 0.2f, 0.5f}, {7.5f, 4.0f, 7.5f}}, 0.6f));
+    append(scene.mesh,
+           random_triangles(7, 300, Aabb{{0.5f, 0.2f, 0.5f}, {7.5f, 4.0f, 7.5f}}, 0.6f));
     BuildConfig config;
     config.leaf_size = 2;
     scene.grid = build_checked(scene.mesh, config);

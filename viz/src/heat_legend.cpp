@@ -69,8 +69,9 @@ TextBitmap rasterise(const std::string& text, int font_pixels)
 
 std::uint8_t mix(std::uint8_t under, std::uint8_t over, float opacity)
 {
-    return static_cast<std::uint8_t>(
-        std::lround(static_cast<float>(under) * (1.0f - opacity) + static_cast<float>(over) * opacity));
+    const float mixed =
+        static_cast<float>(under) * (1.0f - opacity) + static_cast<float>(over) * opacity;
+    return static_cast<std::uint8_t>(std::lround(mixed));
 }
 
 void blend(RgbImage& image, int x, int y, Rgb8 colour, float opacity)

@@ -79,7 +79,8 @@ HeatLegend make_heat_scale(const std::vector<float>& values, double heat_max, Re
         legend.labels.push_back(format_number(k * step, decimals));
     }
     legend.ticks.push_back(legend.scale_max);
-    const bool top_on_step = std::fabs(legend.scale_max / step - std::round(legend.scale_max / step)) < 1e-9;
+    const double steps_to_top = legend.scale_max / step;
+    const bool top_on_step = std::fabs(steps_to_top - std::round(steps_to_top)) < 1e-9;
     std::string top_label = format_number(legend.scale_max, top_on_step ? decimals : -1);
     legend.labels.push_back(clamped != 0 ? top_label + "+" : top_label);
     return legend;

@@ -297,14 +297,10 @@ RenderResult render(const SplitGrid& grid, const MeshView& mesh, const RenderSet
     if (is_heat_map(settings.mode)) {
         HeatLegend legend =
             detail::make_heat_scale(result.heat_values, settings.heat_max, settings.mode);
+        const auto* value = result.heat_values.data();
         for (int y = 0; y < settings.height; ++y)
             for (int x = 0; x < settings.width; ++x)
-                result.image.set(x, y,
-                                 detail::heat_colour(
-                                     result.heat_values[static_cast<std::size_t>(y) *
-                                                            static_cast<std::size_t>(settings.width) +
-                                                        static_cast<std::size_t>(x)],
-                                     legend.scale_max));
+                result.image.set(x, y, detail::heat_colour(*value++, legend.scale_max));
         detail::draw_heat_legend(result.image, legend);
         result.legend = std::move(legend);
     }
