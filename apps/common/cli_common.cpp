@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <system_error>
+#include <utility>
 
 #include "splitgrid/error.hpp"
 #include "splitgrid/version.hpp"
@@ -22,25 +23,6 @@ constexpr std::uint32_t max_count_flag = 1u << 20;
 constexpr double max_sigma_flag = 1e9;
 constexpr double max_min_cell_width_flag = 1e6;
 constexpr std::uint32_t max_threads_flag = 1024;
-
-/// Validator for a number in [lo, hi], or in (lo, hi] when `open_below`. NaN, and text that
-/// is not a number from end to end, are refused.
-CLI::Validator number_in(double lo, double hi, bool open_below)
-{
-    return CLI::Validator(
-        [lo, hi, open_below](std::string& text) -> std::string {
-            double value = 0.0;
-            const char* end = text.data() + text.size();
-            const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-            // Written so that NaN fails: every comparison with NaN is false.
-            const bool above_lo = open_below ? value > lo : value >= lo;
-            if (ec != std::errc{} || ptr != end || !(above_lo && value <= hi))
-                return fmt::format("{} is not a number in {}{}, {}]", text, open_below ? '(' : '[',
-                                   lo, hi);
-            return {};
-        },
-        "", "");
-}
 
 /// Keeps an error report on one line even if a message carries a newline (CLI11 and the OS
 /// sometimes do), so that each failure is exactly one line of stderr.
@@ -119,6 +101,23 @@ CLI::Validator uint_in(std::uint32_t lo, std::uint32_t hi)
             const auto [ptr, ec] = std::from_chars(text.data(), end, value);
             if (ec != std::errc{} || ptr != end || value < lo || value > hi)
                 return fmt::format("{} is not an integer in [{}, {}]", text, lo, hi);
+            return {};
+        },
+        "", "");
+}
+
+CLI::Validator number_in(double lo, double hi, bool open_below)
+{
+    return CLI::Validator(
+        [lo, hi, open_below](std::string& text) -> std::string {
+            double value = 0.0;
+            const char* end = text.data() + text.size();
+            const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+            // Written so that NaN fails: every comparison with NaN is false.
+            const bool above_lo = open_below ? value > lo : value >= lo;
+            if (ec != std::errc{} || ptr != end || !(above_lo && value <= hi))
+                return fmt::format("{} is not a number in {}{}, {}]", text, open_below ? '(' : '[',
+                                   lo, hi);
             return {};
         },
         "", "");
@@ -291,6 +290,20 @@ std::string human_bytes(std::size_t bytes)
         ++unit;
     }
     return unit == 0 ? fmt::format("{} B", bytes) : fmt::format("{:.2f} {}", value, units[unit]);
+}
+
+ProgressLog::ProgressLog(std::string task, std::string unit,
+                         std::chrono::steady_clock::time_point start)
+    : task_(std::move(task)), unit_(std::move(unit)), start_(start)
+{
+}
+
+void ProgressLog::operator()(double fraction_done)
+{
+    const double elapsed = seconds_since(start_);
+    if (elapsed < quiet_seconds || elapsed < last_report_ + report_interval) return;
+    last_report_ = elapsed;
+    spdlog::info("{}: {:.0f}% of {} after {:.1f} s", task_, 100.0 * fraction_done, unit_, elapsed);
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) noexcept

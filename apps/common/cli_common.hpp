@@ -52,6 +52,10 @@ void describe_tool(CLI::App& app, const std::string& description,
 /// "<value> is not an integer in [lo, hi]". The help text is left to the option's description.
 [[nodiscard]] CLI::Validator uint_in(std::uint32_t lo, std::uint32_t hi);
 
+/// CLI11 validator for a number in [lo, hi], or in (lo, hi] when `open_below`; NaN and text
+/// that is not a number from end to end are refused with "<value> is not a number in [lo, hi]".
+[[nodiscard]] CLI::Validator number_in(double lo, double hi, bool open_below);
+
 /// Adds -v/--verbose and -q/--quiet (mutually exclusive) writing into `options`.
 void add_log_flags(CLI::App& app, LogOptions& options);
 
@@ -82,6 +86,24 @@ void check_output_path(const std::filesystem::path& path);
 
 /// "1.23 MiB" style size, for human-readable summaries.
 [[nodiscard]] std::string human_bytes(std::size_t bytes);
+
+/// Progress of a long step, for the library's progress callbacks. Short steps stay silent;
+/// once a step has run for more than two seconds it logs "<task>: 42% of <unit> after 3.0 s"
+/// at most once a second, so a long step shows it is alive without flooding the terminal.
+/// Not synchronised: the callers (builder, renderer) serialise their progress calls.
+class ProgressLog {
+public:
+    ProgressLog(std::string task, std::string unit, std::chrono::steady_clock::time_point start);
+    void operator()(double fraction_done);
+
+private:
+    static constexpr double quiet_seconds = 2.0;
+    static constexpr double report_interval = 1.0;
+    std::string task_;
+    std::string unit_;
+    std::chrono::steady_clock::time_point start_;
+    double last_report_ = 0.0;
+};
 
 /// Seconds elapsed since `start` on the steady clock.
 [[nodiscard]] double seconds_since(std::chrono::steady_clock::time_point start) noexcept;

@@ -34,30 +34,6 @@ struct Options {
     sg::apps::LogOptions log;
 };
 
-/// Progress reporting for the builder. Short builds stay silent; once a build has run for
-/// more than two seconds it reports at most once a second, so a long build shows it is alive
-/// without flooding the terminal.
-class ProgressLog {
-public:
-    explicit ProgressLog(Clock::time_point start) : start_(start) {}
-
-    // The builder calls this under its own lock, so no synchronisation is needed here.
-    void operator()(double fraction_done)
-    {
-        const double elapsed = sg::apps::seconds_since(start_);
-        if (elapsed < quiet_seconds || elapsed < last_report_ + report_interval) return;
-        last_report_ = elapsed;
-        spdlog::info("building: {:.0f}% of triangles placed after {:.1f} s",
-                     100.0 * fraction_done, elapsed);
-    }
-
-private:
-    static constexpr double quiet_seconds = 2.0;
-    static constexpr double report_interval = 1.0;
-    Clock::time_point start_;
-    double last_report_ = 0.0;
-};
-
 /// Logs what the importer skipped and dropped: a user whose mesh lost triangles must hear it.
 void log_import_report(const fs::path& path, const sg::ImportReport& report,
                        std::size_t triangles_kept)
@@ -104,7 +80,9 @@ void build(const Options& options)
 
     const auto build_start = Clock::now();
     sg::SplitGrid grid = sg::build_split_grid(imported.mesh.view(), options.config,
-                                              ProgressLog(build_start));
+                                              sg::apps::ProgressLog("building",
+                                                                    "triangles placed",
+                                                                    build_start));
     const double build_seconds = sg::apps::seconds_since(build_start);
     check_built_grid(grid);
     const sg::GridStats stats = sg::compute_stats(grid);

@@ -1,0 +1,351 @@
+/// sg-render: renders the scene of a .sg file through its Split Grid to an image: shaded,
+/// ambient occlusion, a diffuse path tracer, or a heat map of the traversal cost per pixel.
+/// Prints a summary (or one JSON object with --json) on stdout.
+
+#include <charconv>
+#include <cmath>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <system_error>
+
+#include "cli_common.hpp"
+#include "splitgrid/camera.hpp"
+#include "splitgrid/error.hpp"
+#include "splitgrid/formats/sg_file.hpp"
+#include "splitgrid/version.hpp"
+#include "splitgrid/viz/image.hpp"
+#include "splitgrid/viz/render.hpp"
+
+#include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+using sg::apps::Json;
+using Clock = std::chrono::steady_clock;
+
+constexpr std::uint32_t max_threads = 1024;
+constexpr std::uint32_t path_default_spp = 16;
+
+struct Options {
+    fs::path file;
+    fs::path output;
+    std::string mode = "shaded";
+    sg::RenderSettings settings;
+    std::optional<sg::Vec3f> eye;
+    std::optional<sg::Vec3f> look_at;
+    sg::Vec3f up{0.0f, 1.0f, 0.0f};
+    float fov = 45.0f;
+    bool json = false;
+    sg::apps::LogOptions log;
+};
+
+/// "x,y,z" with three finite numbers, or nothing.
+std::optional<sg::Vec3f> parse_vec3(const std::string& text)
+{
+    sg::Vec3f v;
+    const char* p = text.data();
+    const char* end = text.data() + text.size();
+    for (int axis = 0; axis < 3; ++axis) {
+        const auto [next, ec] = std::from_chars(p, end, v[axis]);
+        if (ec != std::errc{} || !std::isfinite(v[axis])) return std::nullopt;
+        p = next;
+        if (axis < 2) {
+            if (p == end || *p != ',') return std::nullopt;
+            ++p;
+        }
+    }
+    if (p != end) return std::nullopt;
+    return v;
+}
+
+/// Adds a "x,y,z" option whose value lands in `target`.
+CLI::Option* add_vec3_option(CLI::App& app, const std::string& name,
+                             std::optional<sg::Vec3f>& target, const std::string& description)
+{
+    return app
+        .add_option_function<std::string>(
+            name,
+            [&target](const std::string& text) { target = parse_vec3(text); },
+            description)
+        ->type_name("X,Y,Z")
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                return parse_vec3(text) ? std::string{}
+                                        : text + " is not three finite numbers x,y,z";
+            },
+            "", ""));
+}
+
+std::string format_vec3(sg::Vec3f v) { return fmt::format("{},{},{}", v.x, v.y, v.z); }
+
+/// The camera the flags ask for, completed by automatic framing where they are silent.
+/// A camera that cannot form an image is a usage error, like any other bad flag value.
+sg::Camera choose_camera(const Options& options, const sg::MeshView& mesh, bool& automatic)
+{
+    const float aspect =
+        static_cast<float>(options.settings.width) / static_cast<float>(options.settings.height);
+    sg::Camera camera = sg::frame_box(sg::bounds(mesh), aspect, options.fov);
+    automatic = !options.eye || !options.look_at;
+    if (options.eye) camera.eye = *options.eye;
+    if (options.look_at) camera.look_at = *options.look_at;
+    camera.up = options.up;
+    camera.fov_y_degrees = options.fov;
+    try {
+        sg::validate(camera);
+    } catch (const sg::ConfigError& e) {
+        throw CLI::ValidationError("--eye/--look-at/--up/--fov", e.what());
+    }
+    return camera;
+}
+
+Json camera_json(const sg::Camera& camera, bool automatic)
+{
+    return {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
+            {"look_at", {camera.look_at.x, camera.look_at.y, camera.look_at.z}},
+            {"up", {camera.up.x, camera.up.y, camera.up.z}},
+            {"fov_y_degrees", camera.fov_y_degrees},
+            {"automatic", automatic}};
+}
+
+Json legend_json(const sg::HeatLegend& legend)
+{
+    return {{"title", legend.title},
+            {"scale_min", 0.0},
+            {"scale_max", legend.scale_max},
+            {"automatic", legend.automatic},
+            {"max_value", legend.max_value},
+            {"clamped_fraction", legend.clamped_fraction},
+            {"ticks", legend.ticks},
+            {"labels", legend.labels},
+            {"drawn", legend.drawn}};
+}
+
+void print_json(const Options& options, const sg::RenderResult& result, const sg::Camera& camera,
+                bool automatic_camera, std::size_t triangles, double load_seconds,
+                double write_seconds, std::uintmax_t image_bytes)
+{
+    const sg::RenderSettings& s = options.settings;
+    const sg::RenderStats& stats = result.stats;
+    Json j;
+    j["schema_version"] = sg::apps::json_schema_version;
+    j["splitgrid_version"] = sg::version_string;
+    j["file"] = options.file.string();
+    j["triangle_count"] = triangles;
+    j["image"] = {{"path", options.output.string()},
+                  {"format", sg::format_name(*sg::image_format_for(options.output))},
+                  {"width", s.width},
+                  {"height", s.height},
+                  {"bytes", image_bytes}};
+    j["mode"] = std::string(sg::to_string(s.mode));
+    j["samples_per_pixel"] = s.samples_per_pixel;
+    j["seed"] = s.seed;
+    j["ao_samples"] = s.ao_samples;
+    j["ao_distance"] = s.ao_distance;
+    j["bounces"] = s.bounces;
+    j["camera"] = camera_json(camera, automatic_camera);
+    j["threads"] = stats.threads;
+    j["rays"] = {{"primary", stats.primary_rays},
+                 {"secondary", stats.secondary_rays},
+                 {"total", stats.total_rays()}};
+    j["primary"] = {
+        {"hit_fraction", stats.primary_hit_fraction()},
+        {"nodes_visited_mean", stats.nodes_visited_mean},
+        {"nodes_visited_max", stats.nodes_visited_max},
+        {"cells_visited_mean", stats.cells_visited_mean},
+        {"cells_visited_max", stats.cells_visited_max},
+        {"triangles_tested_mean", stats.triangles_tested_mean},
+        {"triangles_tested_max", stats.triangles_tested_max}};
+    j["heat"] = result.legend ? legend_json(*result.legend) : Json(nullptr);
+    j["seconds"] = {{"load", load_seconds}, {"render", stats.seconds}, {"write", write_seconds}};
+    j["mrays_per_second"] = stats.mrays_per_second();
+    std::cout << j.dump(2) << '\n';
+}
+
+void print_summary(const Options& options, const sg::RenderResult& result,
+                   const sg::Camera& camera, bool automatic_camera, double load_seconds,
+                   double write_seconds, std::uintmax_t image_bytes)
+{
+    const sg::RenderSettings& s = options.settings;
+    const sg::RenderStats& stats = result.stats;
+    std::cout << fmt::format(
+        "image       {} ({}x{} {}, {}, {})\n"
+        "camera      --eye {} --look-at {} --up {} --fov {}{}\n"
+        "rays        {} primary ({} per pixel) + {} secondary in {:.3f} s on {} thread{}: "
+        "{:.2f} Mrays/s\n"
+        "primary     {:.1f}% hit; per ray: cells visited mean {:.1f} max {}, triangles tested "
+        "mean {:.1f} max {}, nodes visited mean {:.1f} max {}\n",
+        options.output.string(), s.width, s.height, sg::to_string(s.mode),
+        sg::format_name(*sg::image_format_for(options.output)), sg::apps::human_bytes(image_bytes),
+        format_vec3(camera.eye), format_vec3(camera.look_at), format_vec3(camera.up),
+        camera.fov_y_degrees, automatic_camera ? " (automatic framing)" : "",
+        stats.primary_rays, s.samples_per_pixel, stats.secondary_rays, stats.seconds,
+        stats.threads, stats.threads == 1 ? "" : "s", stats.mrays_per_second(),
+        100.0 * stats.primary_hit_fraction(),
+        stats.cells_visited_mean, stats.cells_visited_max, stats.triangles_tested_mean,
+        stats.triangles_tested_max, stats.nodes_visited_mean, stats.nodes_visited_max);
+    if (result.legend) {
+        const sg::HeatLegend& legend = *result.legend;
+        std::cout << fmt::format(
+            "heat scale  0 .. {} {} ({}; largest pixel {:g}, {:.2f}% of pixels above the scale); "
+            "legend {}\n",
+            legend.scale_max, legend.title, legend.automatic ? "automatic" : "--heat-max",
+            legend.max_value, 100.0 * legend.clamped_fraction,
+            legend.drawn ? "drawn top right" : "not drawn (image too small)");
+    }
+    std::cout << fmt::format("time        load {:.3f} s, render {:.3f} s, write {:.3f} s\n",
+                             load_seconds, stats.seconds, write_seconds);
+}
+
+void render(Options& options)
+{
+    // Fail on an impossible output path now, not after a long render.
+    sg::apps::check_output_path(options.output);
+
+    const auto load_start = Clock::now();
+    const sg::SgContents contents = sg::read_sg_file(options.file);
+    const double load_seconds = sg::apps::seconds_since(load_start);
+    const sg::MeshView mesh = contents.mesh.view();
+    spdlog::debug("{}: {} triangles, {} nodes", options.file.string(), mesh.triangle_count(),
+                  contents.grid.nodes.size());
+
+    bool automatic_camera = false;
+    options.settings.camera = choose_camera(options, mesh, automatic_camera);
+    const sg::RenderResult result =
+        sg::render(contents.grid, mesh, options.settings,
+                   sg::apps::ProgressLog("rendering", "pixels done", Clock::now()));
+    if (result.legend && !result.legend->drawn)
+        spdlog::warn("{}x{} is too small for the heat legend; its scale: 0 .. {} {}",
+                     options.settings.width, options.settings.height, result.legend->scale_max,
+                     result.legend->title);
+
+    const auto write_start = Clock::now();
+    sg::write_image(options.output, result.image);
+    const double write_seconds = sg::apps::seconds_since(write_start);
+    const std::uintmax_t image_bytes = fs::file_size(options.output);
+
+    if (options.json)
+        print_json(options, result, options.settings.camera, automatic_camera,
+                   mesh.triangle_count(), load_seconds, write_seconds, image_bytes);
+    else
+        print_summary(options, result, options.settings.camera, automatic_camera,
+                      load_seconds, write_seconds, image_bytes);
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    Options options;
+    sg::RenderSettings& s = options.settings;
+    CLI::App app{"", "sg-render"};
+    sg::apps::describe_tool(
+        app,
+        "Renders the scene of a .sg file through its Split Grid (in parallel; the image does\n"
+        "not depend on the thread count) and writes an image through VTK's image writers.",
+        "Modes (docs/RENDER.md):\n"
+        "  shaded          grey diffuse shading, lit from the eye and by a light fixed to the\n"
+        "                  camera; both sides of a triangle are lit\n"
+        "  ao              ambient occlusion: share of --ao-samples cosine-distributed rays\n"
+        "                  from the first hit that travel --ao-distance unobstructed\n"
+        "  path            diffuse path tracer: grey albedo 0.5 under a uniform white sky,\n"
+        "                  up to --bounces reflections (the paper's workload: 3), sRGB\n"
+        "  heat-cells      cells visited by each pixel's primary ray, with a colour legend\n"
+        "  heat-triangles  triangles tested by each pixel's primary ray, with a legend\n"
+        "Without --eye and --look-at the camera frames the whole scene from above and to the\n"
+        "side (+y up); the summary prints the camera flags it used, to adjust from.\n"
+        "The image is written atomically: on failure no output file is left behind.");
+    app.add_option("FILE", options.file, "The .sg file (from sg-build)")->required();
+    app.add_option("-o,--output", options.output,
+                   "Output image; the extension picks the format: " +
+                       sg::supported_image_extensions() + " (PNG recommended: lossless)")
+        ->required()
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                return sg::image_format_for(text)
+                           ? std::string{}
+                           : text + ": unsupported image extension (use one of " +
+                                 sg::supported_image_extensions() + ")";
+            },
+            "", ""));
+    app.add_option("--mode", options.mode, "What the pixels show (see below). Default shaded.")
+        ->check(CLI::IsMember({"shaded", "ao", "path", "heat-cells", "heat-triangles"}));
+    const auto side = static_cast<std::uint32_t>(sg::max_image_side);
+    app.add_option("--width", s.width,
+                   fmt::format("Image width in pixels. Range [1, {}]. Default {}.", side, s.width))
+        ->check(sg::apps::uint_in(1, side));
+    app.add_option("--height", s.height,
+                   fmt::format("Image height in pixels. Range [1, {}]. Default {}.", side,
+                               s.height))
+        ->check(sg::apps::uint_in(1, side));
+    CLI::Option* spp =
+        app.add_option("--spp", s.samples_per_pixel,
+                       fmt::format("Camera rays per pixel: 1 goes through the pixel centre, more "
+                                   "through random points of the pixel (antialiasing, less "
+                                   "noise). Range [1, 65536]. Default 1, {} in path mode.",
+                                   path_default_spp))
+            ->check(sg::apps::uint_in(1, 65536));
+    add_vec3_option(app, "--eye", options.eye,
+                    "Camera position. Default: automatic framing (see below).");
+    add_vec3_option(app, "--look-at", options.look_at,
+                    "Point at the image centre. Default: the centre of the scene's box.");
+    std::optional<sg::Vec3f> up;
+    add_vec3_option(app, "--up", up,
+                    "Direction that points up in the image; must not be parallel to the view. "
+                    "Default 0,1,0.");
+    app.add_option("--fov", options.fov,
+                   "Vertical field of view in degrees. Range (0, 180). Default 45.")
+        ->check(sg::apps::number_in(0.0, 180.0, true));
+    app.add_option("--threads", s.threads,
+                   fmt::format("Worker threads, 0 = all hardware threads; the image is the same "
+                               "for every value. Range [0, {}]. Default 0.",
+                               max_threads))
+        ->check(sg::apps::uint_in(0, max_threads));
+    app.add_option("--seed", s.seed,
+                   "Seed of every random choice (sub-pixel positions, ao and bounce "
+                   "directions); the same seed gives the same image. Default 1.");
+    app.add_option("--ao-samples", s.ao_samples,
+                   fmt::format("ao mode: occlusion rays per camera ray. Range [1, 4096]. "
+                               "Default {}.",
+                               s.ao_samples))
+        ->check(sg::apps::uint_in(1, 4096));
+    app.add_option("--ao-distance", s.ao_distance,
+                   fmt::format("ao mode: reach of the occlusion rays as a fraction of the "
+                               "diagonal of the scene's box. Range (0, 1e6]. Default {:g}.",
+                               s.ao_distance))
+        ->check(sg::apps::number_in(0.0, 1e6, true));
+    app.add_option("--bounces", s.bounces,
+                   fmt::format("path mode: diffuse reflections per path. Range [0, 64]. "
+                               "Default {}.",
+                               s.bounces))
+        ->check(sg::apps::uint_in(0, 64));
+    app.add_option("--heat-max", s.heat_max,
+                   "Heat maps: value of the top colour, in cells or triangles per ray; fix it to "
+                   "compare images. 0 = automatic (the 99.5th percentile of the image, rounded "
+                   "up to a tick). Range [0, 1e9]. Default 0.")
+        ->check(sg::apps::number_in(0.0, 1e9, false));
+    app.add_flag("--json", options.json,
+                 "Print one JSON object (docs/RENDER.md) instead of the summary");
+    sg::apps::add_log_flags(app, options.log);
+
+    app.parse_complete_callback([&] {
+        s.mode = *sg::parse_render_mode(options.mode);
+        if (s.mode == sg::RenderMode::path && spp->count() == 0)
+            s.samples_per_pixel = path_default_spp;
+        if (up) options.up = *up;
+        // A camera given in full is checked before the .sg file is read.
+        if (options.eye && options.look_at) {
+            try {
+                sg::validate(sg::Camera{*options.eye, *options.look_at, options.up, options.fov});
+            } catch (const sg::ConfigError& e) {
+                throw CLI::ValidationError("--eye/--look-at/--up/--fov", e.what());
+            }
+        }
+    });
+    return sg::apps::run_tool(app, argc, argv, options.log, [&] { render(options); });
+}
