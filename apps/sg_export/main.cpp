@@ -39,6 +39,19 @@ struct Options {
     sg::apps::LogOptions log;
 };
 
+/// Refuses anything but decimal digits: CLI11 would wrap "-1" around to 2^64 - 1.
+CLI::Validator whole_number()
+{
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            const bool digits = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+                return c >= '0' && c <= '9';
+            });
+            return digits ? std::string() : text + " is not a whole number";
+        },
+        "", "");
+}
+
 sg::viz::ExportOptions export_options(const Options& options)
 {
     sg::viz::ExportOptions o;
@@ -173,30 +186,35 @@ int main(int argc, char** argv)
         "no partial export.\n"
         "Over the limit (default 1,000,000 hexahedra and quads) nothing is written and the\n"
         "tool exits with code 1, naming the --max-depth that would fit.");
-    app.add_option("FILE", options.file, "The .sg file (from sg-build)")->required();
+    app.add_option("FILE", options.file, "The .sg file (from sg-build)")->required()->type_name("");
     app.add_option("-o,--output", options.output,
                    "Output folder DIR (created; see below for an existing folder)")
-        ->required();
+        ->required()
+        ->type_name("DIR");
     app.add_option("--parts", options.parts,
                    "Comma-separated blocks to write, from cells, planes, leaves, mesh. "
                    "Default: all four.")
         ->delimiter(',')
+        ->type_name("LIST")
         ->check(CLI::IsMember({"cells", "planes", "leaves", "mesh"}));
     app.add_option("--min-depth", options.min_depth,
                    fmt::format("Export only nodes at this depth or deeper (the root node is "
                                "depth 0; a cell has its node's depth). Range [0, {}]. "
                                "Default 0.",
                                sg::max_supported_depth))
-        ->check(sg::apps::uint_in(0, sg::max_supported_depth));
+        ->check(sg::apps::uint_in(0, sg::max_supported_depth))
+        ->type_name("D");
     app.add_option("--max-depth", options.max_depth,
                    fmt::format("Export only nodes at this depth or shallower. Range [0, {}]. "
                                "Default: no limit.",
                                sg::max_supported_depth))
-        ->check(sg::apps::uint_in(0, sg::max_supported_depth));
+        ->check(sg::apps::uint_in(0, sg::max_supported_depth))
+        ->type_name("D");
     app.add_option("--subtree", options.subtree,
                    "Export only node NODE and the nodes below it (NODE is a node_id as "
                    "shown in ParaView). Depths still count from the root.")
         ->check(sg::apps::uint_in(0, std::numeric_limits<std::uint32_t>::max()))
+        ->type_name("NODE")
         ->each([&options](const std::string&) { options.has_subtree = true; });
     app.add_flag("--empty-cells", options.empty_cells,
                  "Also write empty cells (kind 0) into the cells block");
@@ -204,7 +222,9 @@ int main(int argc, char** argv)
                    fmt::format("Most hexahedra and quads (cells + planes + leaves; the mesh "
                                "is not counted) to write; 0 means no limit. Default {}: more "
                                "is slow to open and unreadable as a wireframe.",
-                               sg::viz::default_primitive_limit));
+                               sg::viz::default_primitive_limit))
+        ->check(whole_number())
+        ->type_name("N");
     app.add_flag("--force", options.force,
                  "Replace DIR if it exists and holds an earlier export (a .vtm file)");
     app.add_flag("--json", options.json, "Print one JSON object (docs/VIZ.md) instead of the "

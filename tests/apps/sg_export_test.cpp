@@ -193,6 +193,7 @@ TEST(SgExport, BadInputIsOneLineAndLeavesNothing)
         {{(scratch / "garbage.sg").string(), "-o", (scratch / "c").string(), "--parts", "cells,walls"}, 1, "walls"},
         {{(scratch / "garbage.sg").string(), "-o", (scratch / "d").string(), "--min-depth", "3", "--max-depth", "2"}, 1, "--min-depth 3"},
         {{(scratch / "garbage.sg").string(), "-o", (scratch / "e").string(), "--max-depth", "65"}, 1, "65"},
+        {{(scratch / "garbage.sg").string(), "-o", (scratch / "f").string(), "--limit", "-1"}, 1, "-1"},
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.args[0] + " " + c.args.back());
