@@ -2,11 +2,10 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
 #include <cstddef>
+#include <cstring>
 #include <string>
-#include <system_error>
-#include <utility>
+#include <vector>
 
 #include "hierarchy.hpp"
 #include "selection.hpp"
