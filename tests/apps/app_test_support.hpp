@@ -14,12 +14,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "support/scratch_dir.hpp"
 
 #include <gtest/gtest.h>
 
@@ -32,51 +32,6 @@ struct ToolRun {
     int exit_code = -1;  ///< the process's exit status; 128 + signal if it was killed
     std::string out;     ///< everything written to stdout
     std::string err;     ///< everything written to stderr
-};
-
-/// Reads a whole file as bytes; empty if it cannot be opened.
-inline std::string read_text(const std::filesystem::path& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-/// Writes `bytes` to `path`, replacing it.
-inline void write_text(const std::filesystem::path& path, const std::string& bytes)
-{
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw std::runtime_error("cannot write " + path.string());
-}
-
-/// A fresh folder under the system temp folder, removed with everything in it on
-/// destruction. Unique per process and per instance, so parallel ctest runs do not collide.
-class ScratchDir {
-public:
-    ScratchDir()
-    {
-        std::string pattern =
-            (std::filesystem::temp_directory_path() / "sg_apps_test_XXXXXX").string();
-        if (::mkdtemp(pattern.data()) == nullptr)
-            throw std::runtime_error("mkdtemp failed: " + std::string(std::strerror(errno)));
-        path_ = pattern;
-    }
-    ~ScratchDir()
-    {
-        std::error_code ec;
-        std::filesystem::remove_all(path_, ec);
-    }
-    ScratchDir(const ScratchDir&) = delete;
-    ScratchDir& operator=(const ScratchDir&) = delete;
-
-    [[nodiscard]] const std::filesystem::path& path() const noexcept { return path_; }
-    [[nodiscard]] std::filesystem::path operator/(const std::string& name) const
-    {
-        return path_ / name;
-    }
-
-private:
-    std::filesystem::path path_;
 };
 
 /// Runs `exe` with `args` (no shell: arguments are passed as they are), stdout and stderr
