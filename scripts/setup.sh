@@ -27,6 +27,7 @@ packages=(
     libtbb-dev libgtest-dev
     libembree-dev libvtk9-dev
     python3-matplotlib
+    clang-14 libclang-rt-14-dev  # libFuzzer for tests/fuzz (scripts/test.sh)
 )
 
 missing=()
