@@ -41,10 +41,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         sg::fuzz::fail(std::string("build: ") + e.what());
     }
 
-    // The file round trip must give back the same grid, checksums and all.
-    const sg::SgContents contents{c.mesh, grid, "fuzz"};
+    // The file round trip must give back the same mesh and grid, checksums and all. Compared
+    // as bytes, re-encoded: unused vertices may be NaN (clean_mesh keeps them), and NaN != NaN
+    // would make operator== report a difference that is not there.
+    const std::vector<std::uint8_t> bytes = sg::encode_sg({c.mesh, grid, "fuzz"});
     try {
-        if (sg::read_sg_bytes(sg::encode_sg(contents), "fuzz.sg") != contents)
+        if (sg::encode_sg(sg::read_sg_bytes(bytes, "fuzz.sg")) != bytes)
             sg::fuzz::fail("the grid read back from its .sg bytes differs");
     } catch (const sg::Error& e) {
         sg::fuzz::fail(std::string("round trip: ") + e.what());

@@ -81,7 +81,7 @@ int main(int argc, char** argv)
     // Config bytes (fuzz_mesh_input.hpp): defaults-like, and a finer one with small leaves and
     // the cost rule off.
     const std::uint8_t default_like[8] = {1, 62, 191, 7, 32, 229, 32, 1};
-    const std::uint8_t fine[8] = {3, 30, 3, 1, 20, 240, 0, 0};
+    const std::uint8_t fine[8] = {3, 30, 3, 1, 12, 240, 0, 0};
     for (const auto& [name, mesh] : seed_meshes()) {
         const sg::SplitGrid grid = sg::build_split_grid(mesh.view(), sg::BuildConfig{});
         write_file(out / "sg_reader" / (name + ".sg"), sg::encode_sg({mesh, grid, name}));

@@ -40,14 +40,22 @@ namespace fs = std::filesystem;
 const std::vector<std::string> limit_flags = {"--import-time-limit", "20",
                                               "--import-memory-limit", "2048"};
 
-/// Exit codes seen per model, printed at the end of each test for the report.
-using Outcomes = std::map<int, int>;
+/// Exit codes, and the refusals that the child process contained, seen per test; printed at
+/// the end of each test for docs/HARDENING.md.
+using Outcomes = std::map<std::string, int>;
+
+void tally(Outcomes& outcomes, const ToolRun& run)
+{
+    ++outcomes["exit " + std::to_string(run.exit_code)];
+    for (const char* reason : {"importer crashed", "time limit", "memory limit"})
+        if (run.err.find(reason) != std::string::npos) ++outcomes[reason];
+}
 
 std::string outcome_text(const Outcomes& outcomes)
 {
     std::string text;
-    for (const auto& [code, count] : outcomes)
-        text += " exit " + std::to_string(code) + ": " + std::to_string(count) + ";";
+    for (const auto& [what, count] : outcomes)
+        text += " " + what + ": " + std::to_string(count) + ";";
     return text;
 }
 
@@ -111,7 +119,7 @@ TEST(HostileMesh, EveryFileOfAssimpsInvalidFolderIsRefused)
         if (usable_geometry) {
             EXPECT_EQ(run.exit_code, 0) << entry.path();
         }
-        ++outcomes[run.exit_code];
+        tally(outcomes, run);
     }
     EXPECT_GE(files, 10u);
     std::printf("invalid/: %zu files;%s\n", files, outcome_text(outcomes).c_str());
@@ -137,10 +145,10 @@ TEST_P(DamagedModel, TruncatedAndFlippedCopiesAreRefusedOrBuilt)
     for (const double fraction : {0.0, 0.05, 0.3, 0.6, 0.95}) {
         const auto size = static_cast<std::size_t>(fraction * double(bytes.size()));
         write_all(copy, std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + long(size)));
-        ++outcomes[build_and_check(copy, size > 0, scratch).exit_code];
+        tally(outcomes, build_and_check(copy, size > 0, scratch));
     }
     write_all(copy, std::vector<std::uint8_t>(bytes.begin(), bytes.end() - 1));
-    ++outcomes[build_and_check(copy, true, scratch).exit_code];
+    tally(outcomes, build_and_check(copy, true, scratch));
 
     // Copies with 1, 4, 16, ... random bytes replaced by random values (seeded per model).
     std::mt19937 rng(static_cast<std::uint32_t>(std::hash<std::string>{}(GetParam())));
@@ -153,7 +161,7 @@ TEST_P(DamagedModel, TruncatedAndFlippedCopiesAreRefusedOrBuilt)
         for (std::size_t f = 0; f < flips; ++f)
             damaged[position(rng)] = static_cast<std::uint8_t>(value(rng));
         write_all(copy, damaged);
-        ++outcomes[build_and_check(copy, true, scratch).exit_code];
+        tally(outcomes, build_and_check(copy, true, scratch));
     }
     std::printf("%s: %zu damaged copies;%s\n", GetParam().c_str(), 6 + copies,
                 outcome_text(outcomes).c_str());
