@@ -300,8 +300,18 @@ ChildResult collect(pid_t pid, Fd& answer_fd, Fd& output_fd, double time_limit_s
             }
         }
     }
-    // Both pipes are closed once the child has exited; only a timeout leaves it running.
-    if (result.timed_out) ::kill(pid, SIGKILL);
+    // The pipes close when the child exits, but a child could also close them and go on
+    // (sleeping, so RLIMIT_CPU would not end it): the deadline holds for the exit too.
+    while (!result.timed_out) {
+        const pid_t done = ::waitpid(pid, &result.wait_status, WNOHANG);
+        if (done == pid || (done < 0 && errno != EINTR)) return result;
+        if (Clock::now() >= deadline) {
+            result.timed_out = true;
+            break;
+        }
+        ::usleep(1000);
+    }
+    ::kill(pid, SIGKILL);
     while (::waitpid(pid, &result.wait_status, 0) < 0 && errno == EINTR) {
     }
     return result;
