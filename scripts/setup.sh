@@ -33,6 +33,7 @@ packages=(
     libtbb-dev libgtest-dev
     libembree-dev libvtk9-dev
     python3-matplotlib
+    clang-14 libclang-rt-14-dev  # libFuzzer for tests/fuzz (scripts/test.sh)
 )
 if [[ "${with_paraview}" == true ]]; then
     # pvbatch, and Xvfb to give it a display: Debian's ParaView renders only through X.

@@ -2,6 +2,7 @@
 /// file. Prints a short summary (or one JSON object with --json) on stdout.
 
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
@@ -30,6 +31,7 @@ struct Options {
     fs::path mesh;
     fs::path output;
     sg::BuildConfig config;
+    sg::ImportOptions import;
     bool json = false;
     sg::apps::LogOptions log;
 };
@@ -65,13 +67,36 @@ void check_built_grid(const sg::SplitGrid& grid)
     }
 }
 
+/// The limits of the import process (mesh_import.hpp): a hostile mesh file that crashes,
+/// hangs or floods Assimp ends as exit code 2 with a message, not as the end of sg-build.
+void add_import_flags(CLI::App& app, sg::ImportOptions& import)
+{
+    app.add_option("--import-time-limit", import.time_limit_seconds,
+                   "Seconds the mesh import may take before it is stopped and the file "
+                   "refused (exit code 2)")
+        ->check(CLI::Range(0.001, 1e6))
+        ->capture_default_str();
+    app.add_option_function<std::uint64_t>(
+           "--import-memory-limit",
+           [&import](std::uint64_t mib) { import.memory_limit_bytes = mib << 20; },
+           "MiB of memory the mesh import may use before the file is refused (exit code 2); "
+           "0 means no limit [default: " +
+               std::to_string(import.memory_limit_bytes >> 20) + "]")
+        ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 30));
+    app.add_flag_callback(
+        "--import-in-process",
+        [&import] { import.isolation = sg::ImportIsolation::in_process; },
+        "Run Assimp inside sg-build instead of a child process: no limits, and a file that "
+        "crashes Assimp ends sg-build (for debugging the import)");
+}
+
 void build(const Options& options)
 {
     // Fail on an impossible output path now, not after a long import and build.
     sg::apps::check_output_path(options.output);
 
     const auto import_start = Clock::now();
-    sg::ImportedMesh imported = sg::import_mesh(options.mesh);
+    sg::ImportedMesh imported = sg::import_mesh(options.mesh, options.import);
     const double import_seconds = sg::apps::seconds_since(import_start);
     const sg::ImportReport report = imported.report;
     const std::size_t triangles_kept = imported.mesh.triangles.size();
@@ -167,6 +192,7 @@ int main(int argc, char** argv)
     app.add_flag("--json", options.json, "Print one JSON object (docs/STATS_JSON.md) instead "
                                          "of the summary");
     sg::apps::add_build_config_flags(app, options.config);
+    add_import_flags(app, options.import);
     sg::apps::add_log_flags(app, options.log);
     return sg::apps::run_tool(app, argc, argv, options.log, [&] { build(options); });
 }

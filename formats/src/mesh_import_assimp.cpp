@@ -1,9 +1,11 @@
 // Mesh import through Assimp: the only file of the project that includes Assimp.
 
-#include "splitgrid/formats/mesh_import.hpp"
+#include "mesh_import_assimp.hpp"
 
 #include <cstdint>
+#include <exception>
 #include <limits>
+#include <new>
 #include <string>
 
 #include <assimp/Importer.hpp>
@@ -94,9 +96,26 @@ void drop_unreferenced_vertices(Mesh& mesh)
         for (std::uint32_t& v : t.v) v = new_index[v];
 }
 
+/// Rethrows Assimp's std::bad_alloc, which it would otherwise report as a parse error: running
+/// out of memory is a limit of the machine or of the import process, not a fault of the file.
+void rethrow_out_of_memory(const Assimp::Importer& importer)
+{
+    const std::exception_ptr& error = importer.GetException();
+    if (!error) return;
+    try {
+        std::rethrow_exception(error);
+    } catch (const std::bad_alloc&) {
+        throw;
+    } catch (...) {
+        // Any other exception is described by GetErrorString().
+    }
+}
+
 }  // namespace
 
-ImportedMesh import_mesh(const std::filesystem::path& path)
+namespace detail {
+
+ImportedMesh import_mesh_in_process(const std::filesystem::path& path)
 {
     // Also turns "does not exist" and "permission denied" into IoError with the system's
     // reason: Assimp would report them as parse failures.
@@ -109,6 +128,7 @@ ImportedMesh import_mesh(const std::filesystem::path& path)
     // ValidateDataStructure runs on the raw scene, before the other steps: they trust the
     // indices, and a hostile file must be refused rather than crash them.
     const aiScene* scene = importer.ReadFile(name, aiProcess_ValidateDataStructure);
+    if (scene == nullptr) rethrow_out_of_memory(importer);
     if (scene == nullptr) throw InputError(name + ": " + one_line(importer.GetErrorString()));
 
     // Counted before post-processing, which drops vertices no face uses: a file whose faces
@@ -118,6 +138,7 @@ ImportedMesh import_mesh(const std::filesystem::path& path)
         vertices_in_file += scene->mMeshes[m]->mNumVertices;
 
     scene = importer.ApplyPostProcessing(post_processing);
+    if (scene == nullptr) rethrow_out_of_memory(importer);
     if (scene == nullptr) throw InputError(name + ": " + one_line(importer.GetErrorString()));
 
     ImportedMesh result;
@@ -160,4 +181,5 @@ ImportedMesh import_mesh(const std::filesystem::path& path)
     return result;
 }
 
+}  // namespace detail
 }  // namespace sg

@@ -228,7 +228,11 @@ private:
         std::size_t heavy = 0, nonempty = 0;
         for (std::uint32_t c : split.counts) {
             nonempty += c > 0 ? 1 : 0;
-            heavy += static_cast<double>(c) > heavy_limit ? 1 : 0;
+            // A cell that would get every triangle is heavy whatever the fraction: with
+            // no_progress_fraction = 1 (in range) "more than n" never holds, and copies of one
+            // triangle, or a shared edge, were then split into every cell down to max_depth,
+            // resolution^depth nodes (found by tests/fuzz/build_trace_fuzz).
+            heavy += static_cast<double>(c) > heavy_limit || c == n ? 1 : 0;
         }
         if (nonempty == 0 || heavy >= 2 || heavy == nonempty) return false;
         if (!config_.stop_by_cost) return true;
