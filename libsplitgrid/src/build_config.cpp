@@ -1,8 +1,8 @@
 #include "splitgrid/build_config.hpp"
 
 #include <cmath>
-#include <sstream>
 
+#include "config_check.hpp"
 #include "splitgrid/error.hpp"
 
 namespace sg {
@@ -11,13 +11,7 @@ namespace {
 template <class T, class L, class H>
 void check_range(const char* field, T value, L low, H high, bool low_open = false)
 {
-    const bool ok = (low_open ? value > static_cast<T>(low) : value >= static_cast<T>(low)) &&
-                    value <= static_cast<T>(high);
-    if (ok) return;
-    std::ostringstream msg;
-    msg << "BuildConfig." << field << " = " << value << " is out of range " << (low_open ? '(' : '[')
-        << low << ", " << high << "]";
-    throw ConfigError(msg.str());
+    detail::check_config_range("BuildConfig", field, value, low, high, low_open);
 }
 
 }  // namespace

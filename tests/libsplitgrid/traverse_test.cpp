@@ -48,13 +48,7 @@ TEST(Traverse, RayWindowsAgreeWithBruteForce)
     const Mesh mesh = test::random_triangles(7, 2000, unit_box, 1.5f);
     const SplitGrid grid = build_checked(mesh);
     auto rays = test::rays_at_triangles(8, 20000, unit_box, mesh.view());
-    std::mt19937 rng(9);
-    std::uniform_real_distribution<float> u(0.0f, 1.5f);
-    for (Ray& r : rays) {
-        const float a = u(rng), b = u(rng);
-        r.t_min = std::min(a, b);
-        r.t_max = std::max(a, b);
-    }
+    test::set_random_windows(rays, 9, 0.0f, 1.5f);
     rays[0].t_min = rays[0].t_max = 0.5f;  // an empty-width window
     expect_agreement(grid, mesh, rays, 1000);
 }
@@ -63,25 +57,7 @@ TEST(Traverse, ZeroDirectionComponentsAgreeWithBruteForce)
 {
     const Mesh mesh = test::random_triangles(11, 2000, unit_box, 1.0f);
     const SplitGrid grid = build_checked(mesh);
-    std::mt19937 rng(12);
-    std::uniform_int_distribution<int> pick_axis(0, 2);
-    std::uniform_int_distribution<std::size_t> pick_vertex(0, mesh.vertices.size() - 1);
-    std::vector<Ray> rays;
-    const auto random = test::random_rays(13, 20000, unit_box);
-    for (std::size_t k = 0; k < random.size(); ++k) {
-        Ray r = random[k];
-        const int zeroed = pick_axis(rng);
-        r.direction[zeroed] = (k & 1) ? 0.0f : -0.0f;
-        if (k % 3 == 0) r.direction[(zeroed + 1) % 3] = (k & 2) ? 0.0f : -0.0f;
-        // A third of the rays pass exactly through a vertex, where cells and triangles meet.
-        if (k % 3 == 1) {
-            const Vec3f v = mesh.vertices[pick_vertex(rng)];
-            r.origin = v - r.direction * 20.0f;
-            r.origin[zeroed] = v[zeroed];
-        }
-        if (r.direction == Vec3f{}) r.direction[zeroed] = 1.0f;
-        rays.push_back(r);
-    }
+    const std::vector<Ray> rays = test::zero_direction_rays(12, 20000, unit_box, mesh);
     expect_agreement(grid, mesh, rays, 2000);
 }
 
@@ -125,14 +101,7 @@ TEST(Traverse, PlanarSceneAndRaysInItsPlane)
         const auto aimed = test::rays_at_triangles(32, 5000, Aabb{{-1, -1, -1}, {41, 41, 41}},
                                                    mesh.view());
         rays.insert(rays.end(), aimed.begin(), aimed.end());
-        // Rays lying in the plane of the triangles.
-        for (std::size_t k = 0; k < 2000; ++k) {
-            Ray r = rays[k];
-            r.origin[axis] = 3.0f;
-            r.direction[axis] = (k & 1) ? 0.0f : -0.0f;
-            if (r.direction == Vec3f{}) r.direction[(axis + 1) % 3] = 1.0f;
-            rays.push_back(r);
-        }
+        test::append_rays_in_plane(rays, axis, 3.0f, 2000);  // rays lying in the triangles' plane
         expect_agreement(grid, mesh, rays, 3000);
     }
 }
@@ -153,16 +122,8 @@ TEST(Traverse, TrianglesOnCellPlanes)
     const auto aimed = test::rays_at_triangles(42, 10000, box, mesh.view());
     rays.insert(rays.end(), aimed.begin(), aimed.end());
     // Axis-aligned rays through lattice points (edges and corners of the triangles).
-    std::mt19937 rng(43);
-    std::uniform_int_distribution<int> coord(0, 8);
-    for (int k = 0; k < 6000; ++k) {
-        Ray r;
-        r.origin = {float(coord(rng)), float(coord(rng)), float(coord(rng))};
-        r.direction = {};
-        r.direction[k % 3] = (k % 2) ? 1.0f : -1.0f;
-        r.origin[k % 3] = (k % 2) ? -1.0f : 9.0f;
-        rays.push_back(r);
-    }
+    const auto axis_rays = test::axis_rays_through_lattice(43, 6000, 8, false);
+    rays.insert(rays.end(), axis_rays.begin(), axis_rays.end());
     expect_agreement(grid, mesh, rays, 5000);
 }
 
@@ -181,14 +142,7 @@ TEST(Traverse, InvalidRaysMissWithoutTouchingTheStructure)
 {
     const Mesh mesh = test::random_triangles(61, 100, unit_box, 1.0f);
     const SplitGrid grid = build_checked(mesh);
-    const float nan = std::numeric_limits<float>::quiet_NaN();
-    const float inf = std::numeric_limits<float>::infinity();
-    const std::vector<Ray> bad = {
-        Ray{{nan, 0, 0}, {1, 0, 0}, 0, inf}, Ray{{0, 0, 0}, {nan, 1, 0}, 0, inf},
-        Ray{{inf, 0, 0}, {1, 0, 0}, 0, inf}, Ray{{0, 0, 0}, {0, 0, 0}, 0, inf},
-        Ray{{0, 0, 0}, {1, 0, 0}, 2, 1},     Ray{{0, 0, 0}, {1, 0, 0}, nan, inf},
-        Ray{{0, 0, 0}, {1, 0, 0}, 0, nan},   Ray{{0, 0, 0}, {1e-40f, 0, 0}, 0, inf},
-    };
+    const std::vector<Ray> bad = test::invalid_rays();
     for (const Ray& r : bad) {
         EXPECT_FALSE(is_valid(r));
         TraversalCounters counters;

@@ -26,14 +26,22 @@ bool same_closest_hit(const Hit& expected, const Hit& actual) noexcept
 OracleReport compare_with_brute_force(const SplitGrid& grid, const MeshView& mesh,
                                       const std::vector<Ray>& rays)
 {
+    return compare_with_brute_force(
+        mesh, rays, [&](const Ray& r) { return intersect(grid, mesh, r); },
+        [&](const Ray& r) { return occluded(grid, mesh, r); });
+}
+
+OracleReport compare_with_brute_force(const MeshView& mesh, const std::vector<Ray>& rays,
+                                      const ClosestHitQuery& closest, const AnyHitQuery& any)
+{
     OracleReport report;
     for (const Ray& ray : rays) {
         ++report.rays;
         const Hit expected = intersect_brute_force(mesh, ray);
-        const Hit actual = intersect(grid, mesh, ray);
+        const Hit actual = closest(ray);
         if (expected.is_hit()) ++report.hits;
         const bool closest_ok = same_closest_hit(expected, actual);
-        const bool any_ok = occluded(grid, mesh, ray) == occluded_brute_force(mesh, ray);
+        const bool any_ok = any(ray) == occluded_brute_force(mesh, ray);
         if (!closest_ok) ++report.closest_disagreements;
         if (!any_ok) ++report.any_hit_disagreements;
         if ((!closest_ok || !any_ok) && report.first_failure.empty()) {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,8 +27,31 @@ struct OracleReport {
 /// test build should.
 [[nodiscard]] SplitGrid build_checked(const Mesh& mesh, const BuildConfig& config = {});
 
+/// A structure's two queries for one ray, as callbacks.
+using ClosestHitQuery = std::function<Hit(const Ray&)>;
+using AnyHitQuery = std::function<bool(const Ray&)>;
+
+/// Runs both queries on every ray and compares with intersect_brute_force and
+/// occluded_brute_force over all triangles of `mesh`.
+[[nodiscard]] OracleReport compare_with_brute_force(const MeshView& mesh,
+                                                    const std::vector<Ray>& rays,
+                                                    const ClosestHitQuery& closest,
+                                                    const AnyHitQuery& any);
+
 /// Runs intersect() and occluded() on every ray and compares with the brute-force answers.
 [[nodiscard]] OracleReport compare_with_brute_force(const SplitGrid& grid, const MeshView& mesh,
                                                     const std::vector<Ray>& rays);
+
+/// The same for a comparison structure (uniform grid, kd-tree, BVH): anything with
+/// intersect(mesh, ray) and occluded(mesh, ray) members.
+template <class Structure>
+[[nodiscard]] OracleReport compare_structure_with_brute_force(const Structure& structure,
+                                                              const MeshView& mesh,
+                                                              const std::vector<Ray>& rays)
+{
+    return compare_with_brute_force(
+        mesh, rays, [&](const Ray& r) { return structure.intersect(mesh, r); },
+        [&](const Ray& r) { return structure.occluded(mesh, r); });
+}
 
 }  // namespace sg::test

@@ -1,6 +1,8 @@
 #include "support/random_scene.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace sg::test {
@@ -141,6 +143,80 @@ std::vector<Ray> rays_at_triangles(std::uint32_t seed, std::size_t count, const 
         r.direction = target - r.origin;
     }
     return rays;
+}
+
+std::vector<Ray> zero_direction_rays(std::uint32_t seed, std::size_t count, const Aabb& box,
+                                     const Mesh& mesh)
+{
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> pick_axis(0, 2);
+    std::uniform_int_distribution<std::size_t> pick_vertex(0, mesh.vertices.size() - 1);
+    std::vector<Ray> rays = random_rays(seed + 1, count, box);
+    for (std::size_t k = 0; k < rays.size(); ++k) {
+        Ray& r = rays[k];
+        const int zeroed = pick_axis(rng);
+        r.direction[zeroed] = (k & 1) ? 0.0f : -0.0f;
+        if (k % 3 == 0) r.direction[(zeroed + 1) % 3] = (k & 2) ? 0.0f : -0.0f;
+        if (k % 3 == 1) {
+            const Vec3f v = mesh.vertices[pick_vertex(rng)];
+            r.origin = v - r.direction * 20.0f;
+            r.origin[zeroed] = v[zeroed];
+        }
+        if (r.direction == Vec3f{}) r.direction[zeroed] = 1.0f;
+    }
+    return rays;
+}
+
+void set_random_windows(std::vector<Ray>& rays, std::uint32_t seed, float lo, float hi)
+{
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(lo, hi);
+    for (Ray& r : rays) {
+        const float a = u(rng), b = u(rng);
+        r.t_min = std::min(a, b);
+        r.t_max = std::max(a, b);
+    }
+}
+
+void append_rays_in_plane(std::vector<Ray>& rays, int axis, float coord, std::size_t count)
+{
+    for (std::size_t k = 0; k < count; ++k) {
+        Ray r = rays[k];
+        r.origin[axis] = coord;
+        r.direction[axis] = (k & 1) ? 0.0f : -0.0f;
+        if (r.direction == Vec3f{}) r.direction[(axis + 1) % 3] = 1.0f;
+        rays.push_back(r);
+    }
+}
+
+std::vector<Ray> axis_rays_through_lattice(std::uint32_t seed, std::size_t count, int n,
+                                           bool start_on_lattice)
+{
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> coord(0, n);
+    std::vector<Ray> rays;
+    for (std::size_t k = 0; k < count; ++k) {
+        const auto axis = static_cast<int>(k % 3);
+        Ray r;
+        r.origin = {float(coord(rng)), float(coord(rng)), float(coord(rng))};
+        r.direction = {};
+        r.direction[axis] = (k % 2) ? 1.0f : -1.0f;
+        if (!start_on_lattice || k % 4 < 2) r.origin[axis] = (k % 2) ? -1.0f : float(n + 1);
+        rays.push_back(r);
+    }
+    return rays;
+}
+
+std::vector<Ray> invalid_rays()
+{
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    return {
+        Ray{{nan, 0, 0}, {1, 0, 0}, 0, inf}, Ray{{0, 0, 0}, {nan, 1, 0}, 0, inf},
+        Ray{{inf, 0, 0}, {1, 0, 0}, 0, inf}, Ray{{0, 0, 0}, {0, 0, 0}, 0, inf},
+        Ray{{0, 0, 0}, {1, 0, 0}, 2, 1},     Ray{{0, 0, 0}, {1, 0, 0}, nan, inf},
+        Ray{{0, 0, 0}, {1, 0, 0}, 0, nan},   Ray{{0, 0, 0}, {1e-40f, 0, 0}, 0, inf},
+    };
 }
 
 }  // namespace sg::test

@@ -36,4 +36,27 @@ void append(Mesh& a, const Mesh& b);
 [[nodiscard]] std::vector<Ray> rays_at_triangles(std::uint32_t seed, std::size_t count,
                                                  const Aabb& box, const MeshView& mesh);
 
+/// Random rays (random_rays(seed + 1, count, box)) with one or two direction components set
+/// to +0.0 or -0.0, a third of them aimed exactly through a vertex of `mesh` with the origin
+/// on the vertex's plane of the zeroed axis.
+[[nodiscard]] std::vector<Ray> zero_direction_rays(std::uint32_t seed, std::size_t count,
+                                                   const Aabb& box, const Mesh& mesh);
+
+/// Gives every ray a random window [t_min, t_max] within [lo, hi].
+void set_random_windows(std::vector<Ray>& rays, std::uint32_t seed, float lo, float hi);
+
+/// Appends copies of the first `count` rays moved into the plane axis = coord, with their
+/// direction component on that axis set to +0.0 or -0.0 (rays lying in the plane).
+void append_rays_in_plane(std::vector<Ray>& rays, int axis, float coord, std::size_t count);
+
+/// Axis-aligned rays (+-x, +-y, +-z in turn) through random points of the integer lattice
+/// [0, n]^3, starting outside the lattice; with `start_on_lattice`, every other pair starts on
+/// the lattice point itself.
+[[nodiscard]] std::vector<Ray> axis_rays_through_lattice(std::uint32_t seed, std::size_t count,
+                                                         int n, bool start_on_lattice);
+
+/// One ray of each invalid kind (see is_valid): NaN or infinite origin, NaN or zero or
+/// denormal-only direction, t_min > t_max, NaN t_min or t_max.
+[[nodiscard]] std::vector<Ray> invalid_rays();
+
 }  // namespace sg::test

@@ -1,0 +1,259 @@
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <type_traits>
+#include <vector>
+
+#include "splitgrid/aabb.hpp"
+#include "splitgrid/baselines/traversal_common.hpp"
+#include "splitgrid/mesh.hpp"
+#include "splitgrid/ray.hpp"
+#include "splitgrid/traverse.hpp"
+
+namespace sg {
+
+/// Deepest kd-tree the traverser's fixed stack supports (KdTreeConfig::max_depth's range).
+inline constexpr std::uint32_t kd_max_supported_depth = 64;
+
+/// Parameters of the kd-tree (a comparison structure for sg-bench; docs/BASELINES.md).
+///
+/// Surface area heuristic (Wald and Havran, "On building fast kd-trees for ray tracing, and
+/// on doing that in O(N log N)", IEEE RT 2006): splitting a node of box B with n triangles at
+/// a plane with nl triangles below and nr above costs
+///   traversal_cost + intersection_cost * (SA(Bl) nl + SA(Br) nr) / SA(B),
+/// times (1 - empty_bonus) when nl or nr is 0; keeping the node as a leaf costs
+/// intersection_cost * n. The cheapest plane of the three axes is taken if it beats the leaf.
+/// Only the ratio of the two costs matters.
+struct KdTreeConfig {
+    /// Cost of one traversal step, relative to intersection_cost. Range (0, 1e6].
+    /// Wald and Havran use 15 against 20. With clipped ("perfect") extents that ratio splits
+    /// around shared vertices down to the depth limit: on the Stanford dragon it gives 5.9
+    /// references and 86 bytes per triangle. 3 against 1 traces as fast there (traversal is
+    /// memory-bound) with 2.9 references, 26 bytes per triangle and half the build time
+    /// (docs/BASELINES.md).
+    double traversal_cost = 3.0;
+    /// Cost of one ray/triangle test. Range (0, 1e6].
+    double intersection_cost = 1.0;
+    /// Discount of a split that cuts off empty space (one side holds no triangle), which
+    /// lets the tree wrap geometry tightly. Range [0, 1). 0.2 as in Wald and Havran.
+    double empty_bonus = 0.2;
+    /// Deepest leaf (the root is depth 0); 0 means automatic: round(8 + 1.3 log2 N) (Havran's
+    /// rule), at most 64. Range [0, 64].
+    std::uint32_t max_depth = 0;
+    /// A node with at most this many triangles becomes a leaf without consulting the SAH.
+    /// Range [1, 2^20].
+    std::uint32_t leaf_size = 1;
+    /// Candidate planes per axis for large nodes: the node's extent is cut into this many
+    /// bins (Wald's binned build), plus the two planes that cut off the empty space on each
+    /// side. Range [2, 1024].
+    std::uint32_t bins = 32;
+    /// Nodes with fewer triangles evaluate every triangle boundary as a candidate (the exact
+    /// SAH sweep over sorted events, O(n log n) per node); larger ones are binned. The deep,
+    /// small nodes decide the tree's tightness and cost little to sweep. Range [0, 2^30];
+    /// 0 bins everywhere.
+    std::uint32_t exact_below = 1024;
+    /// Worker threads for the build; 0 means all hardware threads. Range [0, 1024]. The tree
+    /// is identical for every value.
+    unsigned threads = 0;
+
+    /// Throws ConfigError naming the first field out of range.
+    void validate() const;
+    /// max_depth, or the automatic depth for `triangles` triangles when max_depth is 0.
+    [[nodiscard]] std::uint32_t depth_limit(std::size_t triangles) const noexcept;
+    friend bool operator==(const KdTreeConfig&, const KdTreeConfig&) = default;
+};
+
+/// One kd-tree node, 8 bytes (the layout of Wald's thesis and pbrt's KdAccelNode):
+///   offset 0  float   split      inner: the split plane's coordinate on `axis`
+///             uint32  first_ref  leaf: index of the first triangle reference
+///   offset 4  uint32  bits 0-1   axis 0, 1, 2 for an inner node; 3 for a leaf
+///                     bits 2-31  inner: index of the child above the plane (the child below
+///                                is the next node); leaf: number of references (0 = empty)
+/// Nodes are in depth-first order, so the child below is always at index + 1.
+class KdNode {
+public:
+    static constexpr std::uint32_t max_index = (1u << 30) - 1;
+
+    /// Precondition (checked by the builder, which throws InputError): above_child <= max_index.
+    [[nodiscard]] static KdNode make_inner(int axis, float split, std::uint32_t above_child) noexcept
+    {
+        SG_ASSERT(axis >= 0 && axis <= 2 && above_child <= max_index);
+        return KdNode(std::bit_cast<std::uint32_t>(split),
+                      static_cast<std::uint32_t>(axis) | (above_child << 2));
+    }
+    /// Precondition: count <= max_index.
+    [[nodiscard]] static KdNode make_leaf(std::uint32_t first_ref, std::uint32_t count) noexcept
+    {
+        SG_ASSERT(count <= max_index);
+        return KdNode(first_ref, 3u | (count << 2));
+    }
+
+    [[nodiscard]] bool is_leaf() const noexcept { return (bits_ & 3u) == 3u; }
+    [[nodiscard]] int axis() const noexcept { return static_cast<int>(bits_ & 3u); }
+    [[nodiscard]] float split() const noexcept { return std::bit_cast<float>(word_); }
+    [[nodiscard]] std::uint32_t above_child() const noexcept { return bits_ >> 2; }
+    [[nodiscard]] std::uint32_t first_ref() const noexcept { return word_; }
+    [[nodiscard]] std::uint32_t ref_count() const noexcept { return bits_ >> 2; }
+
+    KdNode() = default;
+    friend bool operator==(const KdNode&, const KdNode&) = default;
+
+private:
+    KdNode(std::uint32_t word, std::uint32_t bits) noexcept : word_(word), bits_(bits) {}
+    std::uint32_t word_ = 0;
+    std::uint32_t bits_ = 3u;
+};
+static_assert(sizeof(KdNode) == 8 && alignof(KdNode) == 4,
+              "KdNode must be 8 bytes (a float or uint32, and a packed uint32) with no padding");
+static_assert(std::is_trivially_copyable_v<KdNode>, "KdNode is copied as bytes when merged");
+
+/// A kd-tree over the scene's bounding box (padded by boundary_pad), built by the SAH with
+/// "perfect splits": every triangle is clipped to the node's box in double precision
+/// (clip.hpp) before its extent is used for candidate planes and for the split, so a
+/// triangle that crosses the node's box but not a child is not referenced by that child.
+///
+/// Robustness: a triangle goes to every child whose box, padded by boundary_pad, its clipped
+/// polygon reaches (so planar triangles lying in a split plane go to both sides, and a hit the
+/// watertight test reports a few ulps outside its triangle is still in a visited leaf); the
+/// traversal widens its plane crossings (t_pad) and visits both children when a ray parallel
+/// to the split plane lies in it.
+class KdTree : public BaselineQueries<KdTree> {
+public:
+    using Config = KdTreeConfig;
+
+    /// Builds the tree (subtrees in parallel on oneTBB). Throws ConfigError for a bad config,
+    /// InputError for a bad mesh (check_mesh) or one too large for 32-bit indices. An empty
+    /// mesh gives an empty tree on which every query misses.
+    [[nodiscard]] static KdTree build(const MeshView& mesh, const KdTreeConfig& config = {});
+
+    // Queries (intersect, occluded, intersect_with, occluded_with): BaselineQueries in
+    // traversal_common.hpp. Counters: nodes_visited = inner nodes, cells_visited = leaves.
+
+    /// Bytes of the tree itself: box, nodes and references (not the mesh).
+    [[nodiscard]] std::size_t memory_bytes() const noexcept
+    {
+        return sizeof(box_) + sizeof(triangle_count_) + nodes_.size() * sizeof(KdNode) +
+               refs_.size() * sizeof(std::uint32_t);
+    }
+
+    /// The root box: the scene's bounding box padded by boundary_pad.
+    [[nodiscard]] const Aabb& box() const noexcept { return box_; }
+    [[nodiscard]] std::span<const KdNode> nodes() const noexcept { return nodes_; }
+    [[nodiscard]] std::span<const std::uint32_t> refs() const noexcept { return refs_; }
+    [[nodiscard]] std::size_t node_count() const noexcept { return nodes_.size(); }
+    [[nodiscard]] std::size_t leaf_count() const noexcept;
+    [[nodiscard]] std::size_t reference_count() const noexcept { return refs_.size(); }
+    /// Depth of the deepest leaf (root = 0; 0 also for an empty tree).
+    [[nodiscard]] std::uint32_t depth() const noexcept { return depth_; }
+    [[nodiscard]] std::uint32_t triangle_count() const noexcept { return triangle_count_; }
+
+    friend bool operator==(const KdTree&, const KdTree&) = default;
+
+private:
+    // Plane crossings (plane - origin) * (1 / direction) have three roundings (relative error
+    // below 2^-22); the near child's interval is widened up and the far child's down by 2^-20
+    // relative, so the two overlap around the split and no ray slips between them. The same
+    // factor as the Split Grid's traverser.
+    static constexpr float t_pad(Padding padding) noexcept
+    {
+        return padding == Padding::Conservative ? 0x1p-20f : 0.0f;
+    }
+
+    friend class BaselineQueries<KdTree>;
+    template <Padding padding, class Search>
+    void walk(const detail::BaselineRay& ray, Search& search) const noexcept;
+
+    Aabb box_;
+    std::uint32_t triangle_count_ = 0;
+    std::uint32_t depth_ = 0;
+    std::vector<KdNode> nodes_;
+    std::vector<std::uint32_t> refs_;
+};
+
+template <Padding padding, class Search>
+void KdTree::walk(const detail::BaselineRay& ray, Search& search) const noexcept
+{
+    if (nodes_.empty()) return;
+    constexpr float pad = t_pad(padding);
+    float t0 = ray.t_min;
+    float t1 = ray.t_max;
+    if (!detail::clip_to_box(ray, box_, pad, t0, t1)) return;
+
+    struct Pending {
+        std::uint32_t node;
+        float t0;
+        float t1;
+    };
+    std::array<Pending, kd_max_supported_depth + 1> stack;  // only [0, sp) is read
+    std::size_t sp = 0;
+    std::uint32_t index = 0;
+    for (;;) {
+        KdNode node = nodes_[index];
+        while (!node.is_leaf()) {
+            search.count_node();
+            const int a = node.axis();
+            const float split = node.split();
+            const std::uint32_t below = index + 1;
+            const std::uint32_t above = node.above_child();
+            if (ray.is_parallel[a]) {
+                // Parallel to the plane: the side holding the origin; a ray lying in the plane
+                // is in both closed children. (The padded assignment already puts everything
+                // such a ray can hit on both sides; visiting both does not rely on it.)
+                if (ray.origin[a] < split) {
+                    index = below;
+                } else if (ray.origin[a] > split) {
+                    index = above;
+                } else {
+                    SG_ASSERT(sp < stack.size());
+                    stack[sp++] = Pending{above, t0, t1};
+                    index = below;
+                }
+            } else {
+                // Children in ray order by the direction's sign (robust for an origin on the
+                // plane, where the crossing is +-0).
+                const float t_split = ray.crossing(a, split);
+                const bool below_first = ray.direction[a] > 0.0f;
+                const std::uint32_t first = below_first ? below : above;
+                const std::uint32_t second = below_first ? above : below;
+                const float first_end = std::min(t1, detail::widen_up(t_split, pad));
+                const float second_start = std::max(t0, detail::widen_down(t_split, pad));
+                const bool visit_first = t0 <= first_end;
+                const bool visit_second = second_start <= t1;
+                if (visit_first) {
+                    if (visit_second) {
+                        SG_ASSERT(sp < stack.size());
+                        stack[sp++] = Pending{second, second_start, t1};
+                    }
+                    index = first;
+                    t1 = first_end;
+                } else {
+                    index = second;
+                    t0 = second_start;
+                }
+            }
+            node = nodes_[index];
+        }
+        search.count_cell();
+        if (node.ref_count() > 0) search.test_all(refs_.data() + node.first_ref(), node.ref_count());
+        if (search.done()) return;
+        // Next pending node that may still hold a closer hit; hits beyond this leaf's interval
+        // are kept as candidates and cut the rest off here.
+        for (;;) {
+            if (sp == 0) return;
+            const Pending& next = stack[--sp];
+            if (next.t0 <= search.best_t()) {
+                index = next.node;
+                t0 = next.t0;
+                t1 = next.t1;
+                break;
+            }
+        }
+    }
+}
+
+}  // namespace sg

@@ -1,0 +1,63 @@
+#pragma once
+
+// Build-time helpers shared by the three comparison structures.
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include <tbb/task_arena.h>
+
+#include "splitgrid/aabb.hpp"
+#include "splitgrid/builder.hpp"
+#include "splitgrid/error.hpp"
+#include "splitgrid/mesh.hpp"
+
+namespace sg::detail {
+
+/// A float at or below (above) x: one ulp outward after rounding, which is always enough
+/// and cheaper than checking the rounding direction.
+[[nodiscard]] inline float float_below(double x) noexcept
+{
+    return std::nextafter(static_cast<float>(x), -std::numeric_limits<float>::infinity());
+}
+[[nodiscard]] inline float float_above(double x) noexcept
+{
+    return std::nextafter(static_cast<float>(x), std::numeric_limits<float>::infinity());
+}
+
+/// The box every structure is built in: the scene's bounding box widened by `pad` on each
+/// side, kept finite next to +-FLT_MAX.
+[[nodiscard]] inline Aabb padded_root_box(const Aabb& scene, float pad) noexcept
+{
+    constexpr float float_max = std::numeric_limits<float>::max();
+    Aabb box;
+    for (int k = 0; k < 3; ++k) {
+        box.lower[k] = std::max(-float_max, scene.lower[k] - pad);
+        box.upper[k] = std::min(float_max, scene.upper[k] + pad);
+    }
+    return box;
+}
+
+/// Checks what every build requires of its mesh (check_mesh, and ids that fit in 32 bits
+/// with one value to spare); throws InputError naming the structure otherwise.
+inline void check_build_input(const MeshView& mesh, const char* structure)
+{
+    check_mesh(mesh);
+    if (mesh.triangle_count() >= std::numeric_limits<std::uint32_t>::max())
+        throw InputError(std::string(structure) + ": the mesh has 2^32 - 1 triangles or more");
+}
+
+/// Runs `work` in a oneTBB arena of `threads` workers (0 = all hardware threads), as
+/// build_split_grid does for BuildConfig::threads.
+template <class Work>
+void run_with_threads(unsigned threads, const Work& work)
+{
+    tbb::task_arena arena(threads == 0 ? tbb::task_arena::automatic : static_cast<int>(threads));
+    arena.execute(work);
+}
+
+}  // namespace sg::detail

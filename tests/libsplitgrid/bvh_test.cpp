@@ -1,0 +1,172 @@
+// The BVH: brute-force oracle cases (baseline_oracle_cases.hpp), its box invariants, the SAH's
+// choices on simple scenes, termination on inseparable triangles, config checks.
+
+#include "splitgrid/baselines/bvh.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "baseline_oracle_cases.hpp"
+#include "splitgrid/builder.hpp"
+#include "splitgrid/error.hpp"
+
+namespace sg::test {
+
+template <>
+struct BaselineTraits<Bvh> {
+    // Every triangle is referenced exactly once; every node's box holds its children's boxes,
+    // and every leaf's box holds its triangles' bounding boxes padded by boundary_pad.
+    static void check(const Bvh& bvh, const MeshView& mesh)
+    {
+        ASSERT_EQ(bvh.triangle_count(), mesh.triangle_count());
+        if (mesh.triangle_count() == 0) {
+            ASSERT_EQ(bvh.node_count(), 0u);
+            return;
+        }
+        const auto nodes = bvh.nodes();
+        const auto refs = bvh.refs();
+        ASSERT_EQ(refs.size(), mesh.triangle_count());
+        std::vector<int> seen(mesh.triangle_count(), 0);
+        const double pad = boundary_pad(bounds(mesh));
+        std::vector<std::uint32_t> depth(nodes.size(), 0);
+        std::size_t leaves = 0;
+        for (std::size_t i = 0; i < nodes.size(); ++i) {
+            const BvhNode& n = nodes[i];
+            if (!n.is_leaf()) {
+                ASSERT_GT(n.first_child(), i);
+                ASSERT_LT(n.first_child() + 1u, nodes.size());
+                for (std::uint32_t c = n.first_child(); c <= n.first_child() + 1; ++c) {
+                    ASSERT_TRUE(n.bounds.contains(nodes[c].bounds)) << "node " << c;
+                    depth[c] = depth[i] + 1;
+                }
+                continue;
+            }
+            ++leaves;
+            ASSERT_GE(n.ref_count(), 1u);
+            ASSERT_LE(std::size_t{n.first_ref()} + n.ref_count(), refs.size());
+            ASSERT_LE(depth[i], bvh.depth());
+            for (std::uint32_t r = n.first_ref(); r < n.first_ref() + n.ref_count(); ++r) {
+                const std::uint32_t t = refs[r];
+                ASSERT_LT(t, mesh.triangle_count());
+                ++seen[t];
+                for (int corner = 0; corner < 3; ++corner)
+                    for (int k = 0; k < 3; ++k) {
+                        const double v = mesh.vertex(t, corner)[k];
+                        ASSERT_LE(double(n.bounds.lower[k]), v - pad) << "triangle " << t;
+                        ASSERT_GE(double(n.bounds.upper[k]), v + pad) << "triangle " << t;
+                    }
+            }
+        }
+        ASSERT_EQ(leaves, bvh.leaf_count());
+        for (std::size_t t = 0; t < seen.size(); ++t) ASSERT_EQ(seen[t], 1) << "triangle " << t;
+    }
+    static std::vector<std::pair<int, float>> planes(const Bvh& bvh)
+    {
+        std::vector<std::pair<int, float>> p;
+        for (const BvhNode& n : bvh.nodes())
+            for (int k = 0; k < 3; ++k) {
+                p.emplace_back(k, n.bounds.lower[k]);
+                p.emplace_back(k, n.bounds.upper[k]);
+            }
+        return p;
+    }
+    static BvhConfig stable_planes_config() { return {}; }
+    static std::uint32_t depth(const Bvh& bvh) { return bvh.depth(); }
+    static std::uint32_t depth_limit(std::size_t) { return BvhConfig{}.max_depth; }
+};
+
+INSTANTIATE_TYPED_TEST_SUITE_P(Bvh, BaselineOracle, ::testing::Types<Bvh>);
+
+namespace {
+
+// Copies of one triangle cannot be told apart by their centroids: the builder halves them
+// until leaves are small, so the depth is logarithmic, not linear.
+TEST(BvhBuild, IdenticalTrianglesGiveABalancedTree)
+{
+    Mesh mesh;
+    mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.triangles.assign(1000, Triangle{{0, 1, 2}});
+    const Bvh bvh = build_checked_baseline<Bvh>(mesh);
+    EXPECT_LE(bvh.depth(), 8u);  // ceil(log2(1000 / 8)) + 1
+    for (const BvhNode& n : bvh.nodes())
+        if (n.is_leaf()) {
+            EXPECT_LE(n.ref_count(), BvhConfig{}.max_leaf_size);
+        }
+}
+
+TEST(BvhBuild, FirstSplitSeparatesDistantClusters)
+{
+    Mesh mesh = random_triangles(3, 500, Aabb{{0, 0, 0}, {1, 1, 1}}, 0.1f);
+    append(mesh, random_triangles(4, 700, Aabb{{0, 0, 9}, {1, 1, 10}}, 0.1f));
+    const Bvh bvh = build_checked_baseline<Bvh>(mesh);
+    const BvhNode root = bvh.nodes()[0];
+    ASSERT_FALSE(root.is_leaf());
+    EXPECT_EQ(root.axis(), 2);
+    const BvhNode low = bvh.nodes()[root.first_child()];
+    const BvhNode high = bvh.nodes()[root.first_child() + 1];
+    EXPECT_LT(low.bounds.upper.z, 1.2f);
+    EXPECT_GT(high.bounds.lower.z, 8.8f);
+}
+
+TEST(BvhBuild, LeavesRespectTheSizeLimits)
+{
+    const Mesh mesh = random_triangles(5, 5000, baseline_scene_box, 0.5f);
+    BvhConfig config;
+    config.leaf_size = 2;
+    config.max_leaf_size = 4;
+    const Bvh bvh = build_checked_baseline<Bvh>(mesh, config);
+    for (const BvhNode& n : bvh.nodes())
+        if (n.is_leaf()) {
+            EXPECT_LE(n.ref_count(), 4u);
+        }
+    EXPECT_EQ(bvh.memory_bytes(), 4u + bvh.node_count() * 32u + 5000u * 4u);
+    EXPECT_EQ(bvh.node_count(), 2 * bvh.leaf_count() - 1);
+}
+
+TEST(BvhBuild, MaxDepthBoundsTheTree)
+{
+    const Mesh mesh = random_triangles(8, 3000, baseline_scene_box, 0.5f);
+    BvhConfig config;
+    config.max_depth = 3;
+    const Bvh bvh = Bvh::build(mesh.view(), config);
+    EXPECT_LE(bvh.depth(), 3u);
+    EXPECT_LE(bvh.leaf_count(), 8u);
+    expect_baseline_agrees(bvh, mesh, rays_at_triangles(9, 1000, baseline_scene_box, mesh.view()), 800);
+}
+
+TEST(BvhConfig, BadValuesNameTheField)
+{
+    EXPECT_EQ(config_error(BvhConfig{}), "");
+    BvhConfig c;
+    c.bins = 1;
+    EXPECT_NE(config_error(c).find("BvhConfig.bins = 1"), std::string::npos);
+    c = {};
+    c.bins = 65;
+    EXPECT_NE(config_error(c).find("bins"), std::string::npos);
+    c = {};
+    c.leaf_size = 9;  // above max_leaf_size
+    EXPECT_NE(config_error(c).find("leaf_size"), std::string::npos);
+    c = {};
+    c.traversal_cost = std::nan("");
+    EXPECT_NE(config_error(c).find("traversal_cost"), std::string::npos);
+    c = {};
+    c.max_depth = 0;
+    EXPECT_NE(config_error(c).find("max_depth"), std::string::npos);
+    c = {};
+    c.threads = 1025;
+    EXPECT_NE(config_error(c).find("threads"), std::string::npos);
+    const Mesh mesh = random_triangles(1, 10, baseline_scene_box, 1.0f);
+    EXPECT_THROW((void)Bvh::build(mesh.view(), c), ConfigError);
+}
+
+TEST(BvhBuild, BadMeshIsAnInputError)
+{
+    Mesh mesh = random_triangles(1, 10, baseline_scene_box, 1.0f);
+    mesh.vertices[0].z = std::numeric_limits<float>::infinity();
+    EXPECT_THROW((void)Bvh::build(mesh.view()), InputError);
+}
+
+}  // namespace
+}  // namespace sg::test
