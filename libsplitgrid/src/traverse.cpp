@@ -1,237 +1,16 @@
 #include "splitgrid/traverse.hpp"
 
-#include <algorithm>
-#include <array>
-#include <cmath>
-#include <limits>
-
-#include "splitgrid/cell_math.hpp"
 #include "splitgrid/ray_triangle.hpp"
 
 namespace sg {
 namespace {
-
-// Ray parameters of plane crossings are computed as (plane - origin) * (1 / direction): three
-// roundings, so a relative error below 2^-22. Widening every interval by 2^-20 relative
-// makes it contain the exact one, so no cell the ray really crosses is skipped.
-constexpr float t_pad = 0x1p-20f;
-float widen_down(float t) noexcept { return t * (t > 0.0f ? 1.0f - t_pad : 1.0f + t_pad); }
-float widen_up(float t) noexcept { return t * (t > 0.0f ? 1.0f + t_pad : 1.0f - t_pad); }
-
-// Direction components below FLT_MIN count as zero (ray.hpp), so 1/d never overflows.
-Vec3f flush_denormals(Vec3f d) noexcept
-{
-    for (int k = 0; k < 3; ++k)
-        if (std::abs(d[k]) < std::numeric_limits<float>::min()) d[k] = 0.0f;
-    return d;
-}
-
-// The ray as every part of the traversal sees it.
-struct PreparedRay {
-    Vec3f origin;
-    Vec3f direction;               // denormal components flushed to zero
-    std::array<float, 3> inv_dir;  // 0 where the component is zero (not used there)
-    std::array<bool, 3> is_parallel;
-    float t_min;
-    float t_max;
-    WatertightRay watertight;
-
-    explicit PreparedRay(const Ray& ray) noexcept
-        : origin(ray.origin), direction(flush_denormals(ray.direction)), inv_dir{}, is_parallel{},
-          t_min(ray.t_min), t_max(ray.t_max)
-    {
-        for (int k = 0; k < 3; ++k) {
-            const auto uk = static_cast<std::size_t>(k);
-            is_parallel[uk] = direction[k] == 0.0f;
-            inv_dir[uk] = is_parallel[uk] ? 0.0f : 1.0f / direction[k];
-        }
-        Ray flushed = ray;
-        flushed.direction = direction;
-        watertight = WatertightRay(flushed);
-    }
-
-    // Ray parameter where the ray crosses plane `coord` on `axis` (not parallel to it).
-    [[nodiscard]] float crossing(int axis, float coord) const noexcept
-    {
-        return (coord - origin[axis]) * inv_dir[static_cast<std::size_t>(axis)];
-    }
-
-    // Narrows [t0, t1] to the part of the ray inside the slab [lo, hi] on `axis`.
-    // Returns false when that part is empty.
-    [[nodiscard]] bool clip_slab(int axis, float lo, float hi, float& t0, float& t1) const noexcept
-    {
-        if (is_parallel[static_cast<std::size_t>(axis)])
-            return origin[axis] >= lo && origin[axis] <= hi && t0 <= t1;
-        float tn = crossing(axis, lo);
-        float tf = crossing(axis, hi);
-        if (tn > tf) std::swap(tn, tf);
-        t0 = std::max(t0, widen_down(tn));
-        t1 = std::min(t1, widen_up(tf));
-        return t0 <= t1;
-    }
-};
-
-// A node whose cells are being walked, kept on the stack while a child is visited.
-struct Cursor {
-    CellMath cells;          // the node's cell mapping (its width computed once)
-    std::uint32_t node;
-    std::int32_t next_cell;  // next cell to visit, in ray order; -1 or N when done
-    float t0;                // the ray's interval inside the node's slab
-    float t1;
-    float next_enter;        // widened crossing into next_cell (the last cell's exit)
-};
-
-// Max stack depth: one cursor per ancestor of the deepest node (check_invariants bounds
-// the depth by max_supported_depth).
-constexpr std::size_t stack_size = max_supported_depth + 1;
-
-template <bool any_hit>
-class Traversal {
-public:
-    Traversal(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
-              TraversalCounters* counters) noexcept
-        : grid_(grid), mesh_(mesh), ray_(ray), counters_(counters), best_t_(ray.t_max)
-    {
-    }
-
-    // Returns true on a hit; the closest one is in hit().
-    bool run() noexcept
-    {
-        float t0 = ray_.t_min;
-        float t1 = ray_.t_max;
-        for (int k = 0; k < 3; ++k)
-            if (!ray_.clip_slab(k, grid_.root_box.lower[k], grid_.root_box.upper[k], t0, t1))
-                return false;
-        if (grid_.root.is_empty()) return false;
-        if (grid_.root.is_leaf()) {
-            test_leaf(grid_.root);
-            return found_;
-        }
-        enter_node(grid_.root.child(), t0, t1);
-
-        while (sp_ > 0) {
-            Cursor& cur = stack_[sp_ - 1];
-            const GridNode& node = grid_.nodes[cur.node];
-            const std::uint32_t n = cur.cells.n;
-            const int axis = node.axis();
-            if (cur.next_cell < 0 || cur.next_cell >= static_cast<std::int32_t>(n)) {
-                --sp_;
-                continue;
-            }
-            const auto i = static_cast<std::uint32_t>(cur.next_cell);
-            float c0 = cur.t0;
-            float c1 = cur.t1;
-            if (ray_.is_parallel[static_cast<std::size_t>(axis)]) {
-                cur.next_cell = -1;  // a parallel ray stays in the one cell it started in
-                if (c0 > best_t_) continue;
-            } else {
-                const bool forward = ray_.inv_dir[static_cast<std::size_t>(axis)] > 0.0f;
-                const float leave = ray_.crossing(axis, cur.cells.boundary(forward ? i + 1 : i));
-                c0 = std::max(c0, cur.next_enter);
-                c1 = std::min(c1, widen_up(leave));
-                // The plane this cell is left through is the plane the next one is entered
-                // through: the same crossing, widened the other way.
-                cur.next_enter = widen_down(leave);
-                // Cells are in ray order: once one starts past the closest hit so far (or past
-                // the node), so do all after it.
-                if (c0 > std::min(cur.t1, best_t_)) {
-                    --sp_;
-                    continue;
-                }
-                cur.next_cell += forward ? 1 : -1;
-            }
-            count_cell();
-            const CellRef cell = grid_.cells[node.first_cell() + i];
-            if (cell.is_empty() || c0 > c1) continue;
-            if (cell.is_leaf()) {
-                if (test_leaf(cell) && any_hit) return true;
-                continue;
-            }
-            enter_node(cell.child(), c0, c1);
-        }
-        return found_;
-    }
-
-    [[nodiscard]] const Hit& hit() const noexcept { return hit_; }
-
-private:
-    // Clips the ray interval to the node's bounding planes and pushes a cursor at the
-    // cell the ray enters first. A full stack (ruled out by check_invariants) drops the
-    // node rather than write past the stack.
-    void enter_node(std::uint32_t index, float t0, float t1) noexcept
-    {
-        if (counters_) ++counters_->nodes_visited;
-        const GridNode& node = grid_.nodes[index];
-        const int axis = node.axis();
-        if (!ray_.clip_slab(axis, node.lo, node.hi, t0, t1)) return;
-        SG_ASSERT(sp_ < stack_size);
-        if (sp_ >= stack_size) return;
-        const std::uint32_t n = node.resolution();
-        const CellMath cm(node.lo, node.hi, n);
-        std::uint32_t i;
-        float enter = t0;
-        if (ray_.is_parallel[static_cast<std::size_t>(axis)]) {
-            i = cm.locate_lowest(ray_.origin[axis]);
-        } else {
-            // Guess from the entry point, then correct with the same widened crossings the
-            // walk uses, so the first cell visited is never past the true first one.
-            i = cm.guess(ray_.origin[axis] + t0 * ray_.direction[axis]);
-            if (ray_.inv_dir[static_cast<std::size_t>(axis)] > 0.0f) {
-                while (i > 0 && widen_down(ray_.crossing(axis, cm.boundary(i))) > t0) --i;
-                while (i + 1 < n && widen_up(ray_.crossing(axis, cm.boundary(i + 1))) < t0) ++i;
-            } else {
-                while (i + 1 < n && widen_down(ray_.crossing(axis, cm.boundary(i + 1))) > t0) ++i;
-                while (i > 0 && widen_up(ray_.crossing(axis, cm.boundary(i))) < t0) --i;
-            }
-            const bool forward = ray_.inv_dir[static_cast<std::size_t>(axis)] > 0.0f;
-            enter = widen_down(ray_.crossing(axis, cm.boundary(forward ? i : i + 1)));
-        }
-        stack_[sp_++] = Cursor{cm, index, static_cast<std::int32_t>(i), t0, t1, enter};
-    }
-
-    bool test_leaf(CellRef cell) noexcept
-    {
-        const std::uint32_t first = cell.first_ref();
-        const std::uint32_t end = first + cell.ref_count();
-        bool hit_here = false;
-        for (std::uint32_t r = first; r < end; ++r) {
-            const std::uint32_t tri = grid_.triangle_refs[r];
-            if (counters_) ++counters_->triangles_tested;
-            float t, u, v;
-            if (!intersect_triangle(ray_.watertight, mesh_.vertex(tri, 0), mesh_.vertex(tri, 1),
-                                    mesh_.vertex(tri, 2), ray_.t_min, best_t_, t, u, v))
-                continue;
-            if (found_ && !(t < best_t_)) continue;  // on equal t the first found stays
-            found_ = hit_here = true;
-            best_t_ = t;
-            hit_ = Hit{t, tri, u, v};
-            if constexpr (any_hit) return true;
-        }
-        return hit_here;
-    }
-
-    void count_cell() noexcept
-    {
-        if (counters_) ++counters_->cells_visited;
-    }
-
-    const SplitGrid& grid_;
-    const MeshView& mesh_;
-    const PreparedRay ray_;
-    TraversalCounters* counters_;
-    float best_t_;
-    bool found_ = false;
-    Hit hit_;
-    std::array<Cursor, stack_size> stack_;  // not zeroed: only [0, sp_) is ever read
-    std::size_t sp_ = 0;
-};
 
 template <bool any_hit>
 bool brute_force(const MeshView& mesh, const Ray& ray, Hit& hit) noexcept
 {
     if (!is_valid(ray)) return false;
     Ray flushed = ray;
-    flushed.direction = flush_denormals(ray.direction);
+    flushed.direction = detail::flush_denormals(ray.direction);
     const WatertightRay wr(flushed);
     bool found = false;
     float best = ray.t_max;
@@ -254,19 +33,13 @@ bool brute_force(const MeshView& mesh, const Ray& ray, Hit& hit) noexcept
 Hit intersect(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
               TraversalCounters* counters) noexcept
 {
-    Hit miss;
-    miss.t = ray.t_max;
-    if (!is_valid(ray)) return miss;
-    Traversal<false> traversal(grid, mesh, ray, counters);
-    return traversal.run() ? traversal.hit() : miss;
+    return intersect_with<>(grid, mesh, ray, counters);
 }
 
 bool occluded(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
               TraversalCounters* counters) noexcept
 {
-    if (!is_valid(ray)) return false;
-    Traversal<true> traversal(grid, mesh, ray, counters);
-    return traversal.run();
+    return occluded_with<>(grid, mesh, ray, counters);
 }
 
 Hit intersect_brute_force(const MeshView& mesh, const Ray& ray) noexcept

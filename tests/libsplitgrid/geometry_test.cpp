@@ -9,6 +9,7 @@
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/clip.hpp"
 #include "splitgrid/mesh.hpp"
+#include "splitgrid/query_policy.hpp"
 #include "splitgrid/ray_triangle.hpp"
 #include "splitgrid/resolution.hpp"
 
@@ -131,6 +132,43 @@ TEST(Watertight, SharedEdgesAndVerticesNeverLeak)
         }
         EXPECT_GE(hits, 1) << "trial " << trial;
     }
+}
+
+TEST(MollerTrumbore, HitsLieOnTheTriangleAndAgreeWithTheWatertightTestAwayFromEdges)
+{
+    // Rays from random points towards random interior points of random triangles: both tests
+    // must hit, at the same t to a few ulps; and rays aimed clearly outside must miss in both.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> coord(-10.0f, 10.0f);
+    std::uniform_real_distribution<float> bary(0.05f, 0.9f);
+    int compared = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const Vec3f a{coord(rng), coord(rng), coord(rng)};
+        const Vec3f b{coord(rng), coord(rng), coord(rng)};
+        const Vec3f c{coord(rng), coord(rng), coord(rng)};
+        float wu = bary(rng), wv = bary(rng);
+        if (wu + wv > 0.95f) continue;
+        const Vec3f target = a * (1.0f - wu - wv) + b * wu + c * wv;
+        const Vec3f origin{coord(rng) * 3.0f, coord(rng) * 3.0f, coord(rng) * 3.0f};
+        const Ray ray{origin, target - origin, 0.0f, 10.0f};
+        // Skip rays nearly in the triangle's plane, where no float test is exact.
+        const Vec3f n = normalize(cross(b - a, c - a));
+        if (std::abs(dot(n, normalize(ray.direction))) < 0.05f) continue;
+        float t1, u1, v1, t2, u2, v2;
+        ASSERT_TRUE(WatertightTest(ray)(a, b, c, 0.0f, 10.0f, t1, u1, v1)) << k;
+        ASSERT_TRUE(MollerTrumboreTest(ray)(a, b, c, 0.0f, 10.0f, t2, u2, v2)) << k;
+        EXPECT_NEAR(t2, 1.0f, 1e-3f) << k;
+        EXPECT_NEAR(t1, t2, 1e-3f) << k;
+        EXPECT_NEAR(u2, wu, 1e-3f) << k;
+        EXPECT_NEAR(v2, wv, 1e-3f) << k;
+        // Beyond a corner, outside the triangle: both miss.
+        const Vec3f outside = a + (a - (b + c) * 0.5f) * 0.5f;
+        const Ray away{origin, outside - origin, 0.0f, 10.0f};
+        EXPECT_FALSE(WatertightTest(away)(a, b, c, 0.0f, 10.0f, t1, u1, v1)) << k;
+        EXPECT_FALSE(MollerTrumboreTest(away)(a, b, c, 0.0f, 10.0f, t2, u2, v2)) << k;
+        ++compared;
+    }
+    EXPECT_GT(compared, 8000);
 }
 
 TEST(Mesh, CleanDropsExactlyTheBadTriangles)

@@ -12,44 +12,16 @@
 #include "splitgrid/aabb.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/ray.hpp"
+#include "splitgrid/query_policy.hpp"
 #include "splitgrid/ray_triangle.hpp"
 #include "splitgrid/traverse.hpp"
 
 /// What the three comparison structures (uniform_grid.hpp, kd_tree.hpp, bvh.hpp) share: the
-/// triangle-test policy their traversals are templated on, the padding switch, and the ray
-/// set-up and hit bookkeeping of a query. The Split Grid's own traverser (traverse.cpp) is
-/// not built on this; the semantics are the same (ray.hpp).
+/// ray set-up and hit bookkeeping of a query, templated on the triangle-test and padding
+/// policies of query_policy.hpp. The Split Grid's own traverser (traverse.hpp) is not built
+/// on this; the semantics are the same (ray.hpp).
 
 namespace sg {
-
-/// Whether a traversal widens its ray intervals to absorb the rounding of plane crossings
-/// (Conservative, the default and the only mode the tests hold to zero misses), or uses the
-/// computed crossings as they are (None: a little faster, and it can lose hits where a ray
-/// passes within rounding error of a cell edge; sg-bench charts the difference).
-/// Build-time padding (boundary_pad) is not affected.
-enum class Padding { Conservative, None };
-
-/// The triangle test of every query unless the caller picks another one: the watertight test
-/// of ray_triangle.hpp, the same one intersect_brute_force uses, so that a structure finds
-/// exactly the hits brute force finds.
-///
-/// A triangle-test policy is any class with
-///   explicit Policy(const Ray& ray) noexcept;   // per-ray set-up; direction denormals flushed
-///   bool operator()(Vec3f a, Vec3f b, Vec3f c, float t_min, float t_max,
-///                   float& t, float& u, float& v) const noexcept;
-/// which reports a hit with t in [t_min, t_max], barycentrics u (of b) and v (of c).
-class WatertightTest {
-public:
-    explicit WatertightTest(const Ray& ray) noexcept : ray_(ray) {}
-    [[nodiscard]] bool operator()(Vec3f a, Vec3f b, Vec3f c, float t_min, float t_max, float& t,
-                                  float& u, float& v) const noexcept
-    {
-        return intersect_triangle(ray_, a, b, c, t_min, t_max, t, u, v);
-    }
-
-private:
-    WatertightRay ray_;
-};
 
 namespace detail {
 
