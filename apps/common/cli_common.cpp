@@ -205,6 +205,22 @@ void add_build_config_flags(CLI::App& app, BuildConfig& config)
                              "Default {}.",
                              defaults.stop_by_cost ? "--stop-by-cost" : "--no-stop-by-cost"))
         ->group(group);
+    app.add_flag("--bounding-planes,!--no-bounding-planes", config.bounding_planes,
+                 fmt::format("Cut each node's slab down to the tight extent of its triangles "
+                             "along the split axis (the Split Grid's bounding planes); "
+                             "--no-bounding-planes uses the node box's faces, a plain nested "
+                             "grid. Default {}.",
+                             defaults.bounding_planes ? "--bounding-planes"
+                                                      : "--no-bounding-planes"))
+        ->group(group);
+    app.add_flag("--clip-triangles,!--no-clip-triangles", config.clip_triangles,
+                 fmt::format("Reference a triangle only in the cells the triangle itself "
+                             "touches (exact clipping); --no-clip-triangles uses its bounding "
+                             "box instead, which builds faster and makes more references. "
+                             "Default {}.",
+                             defaults.clip_triangles ? "--clip-triangles"
+                                                     : "--no-clip-triangles"))
+        ->group(group);
     app.add_option("--threads", config.threads,
                    fmt::format("Worker threads for the build, 0 = all hardware threads; the "
                                "output is bit-identical for every value. Range [0, {}]. "
@@ -316,7 +332,8 @@ Json to_json(const BuildConfig& config)
     // The structured binding stops compiling when a field is added to BuildConfig: then add it
     // here, in add_build_config_flags() and in docs/STATS_JSON.md.
     const auto& [resolution_min, resolution_max, resolution_sigma, leaf_size, max_depth,
-                 no_progress_fraction, min_cell_width, stop_by_cost, threads] = config;
+                 no_progress_fraction, min_cell_width, stop_by_cost, bounding_planes,
+                 clip_triangles, threads] = config;
     Json j;
     j["resolution_min"] = resolution_min;
     j["resolution_max"] = resolution_max;
@@ -326,6 +343,8 @@ Json to_json(const BuildConfig& config)
     j["no_progress_fraction"] = no_progress_fraction;
     j["min_cell_width"] = min_cell_width;
     j["stop_by_cost"] = stop_by_cost;
+    j["bounding_planes"] = bounding_planes;
+    j["clip_triangles"] = clip_triangles;
     j["threads"] = threads;
     return j;
 }

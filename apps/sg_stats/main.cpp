@@ -105,9 +105,11 @@ void print_text(const Options& options, const Report& r)
     out += fmt::format("source          {}\n", r.contents.source_name);
     out += fmt::format(
         "build config    resolution {}..{}, sigma {:g}, leaf size {}, max depth {}, "
-        "no-progress fraction {:g}, min cell width {:g}, stop by cost {}, threads {}\n",
+        "no-progress fraction {:g}, min cell width {:g}, stop by cost {}, bounding planes {}, "
+        "clip triangles {}, threads {}\n",
         c.resolution_min, c.resolution_max, c.resolution_sigma, c.leaf_size, c.max_depth,
-        c.no_progress_fraction, c.min_cell_width, c.stop_by_cost ? "on" : "off", c.threads);
+        c.no_progress_fraction, c.min_cell_width, c.stop_by_cost ? "on" : "off",
+        c.bounding_planes ? "on" : "off", c.clip_triangles ? "on" : "off", c.threads);
 
     out += fmt::format("\nmesh            {} vertices, {} triangles\n",
                        r.contents.mesh.vertices.size(), triangles);

@@ -22,7 +22,8 @@ detail::SgConfigRecord make_config_record(const SplitGrid& grid)
     // The structured binding stops compiling when a field is added to BuildConfig: the new
     // field then needs a place in SgConfigRecord, docs/FORMAT.md and a new format version.
     const auto& [resolution_min, resolution_max, resolution_sigma, leaf_size, max_depth,
-                 no_progress_fraction, min_cell_width, stop_by_cost, threads] = grid.config;
+                 no_progress_fraction, min_cell_width, stop_by_cost, bounding_planes,
+                 clip_triangles, threads] = grid.config;
     detail::SgConfigRecord r{};
     r.resolution_min = resolution_min;
     r.resolution_max = resolution_max;
@@ -33,6 +34,8 @@ detail::SgConfigRecord make_config_record(const SplitGrid& grid)
     r.min_cell_width = min_cell_width;
     r.stop_by_cost = stop_by_cost ? 1u : 0u;
     r.threads = threads;
+    r.build_flags = (bounding_planes ? 0u : detail::sg_flag_no_bounding_planes) |
+                    (clip_triangles ? 0u : detail::sg_flag_no_clip_triangles);
     r.triangle_count = grid.triangle_count;
     r.root_lower = {grid.root_box.lower.x, grid.root_box.lower.y, grid.root_box.lower.z};
     r.root_upper = {grid.root_box.upper.x, grid.root_box.upper.y, grid.root_box.upper.z};

@@ -119,7 +119,9 @@ static_assert(sizeof(SgSectionEntry) == 32 && std::is_trivially_copyable_v<SgSec
 ///       64    12  3 x f32  root box upper corner x, y, z
 ///       76     4  uint32   root cell index   (CellRef layout, see grid_node.hpp)
 ///       80     4  uint32   root cell count
-///       84     4  uint32   reserved, 0 (keeps the record a multiple of 8 bytes)
+///       84     4  uint32   build_flags: bit 0 set = bounding_planes off, bit 1 set =
+///                          clip_triangles off; other bits 0 (0 = both on, the defaults, so
+///                          files written before these options existed read unchanged)
 struct SgConfigRecord {
     std::uint32_t resolution_min;
     std::uint32_t resolution_max;
@@ -135,8 +137,14 @@ struct SgConfigRecord {
     std::array<float, 3> root_upper;
     std::uint32_t root_index;
     std::uint32_t root_count;
-    std::uint32_t reserved;
+    std::uint32_t build_flags;
 };
+
+/// Bits of SgConfigRecord::build_flags.
+inline constexpr std::uint32_t sg_flag_no_bounding_planes = 1u << 0;
+inline constexpr std::uint32_t sg_flag_no_clip_triangles = 1u << 1;
+inline constexpr std::uint32_t sg_known_build_flags =
+    sg_flag_no_bounding_planes | sg_flag_no_clip_triangles;
 static_assert(sizeof(SgConfigRecord) == 10 * 4 + 3 * 8 + 2 * 12 && sizeof(SgConfigRecord) == 88 &&
                   std::is_trivially_copyable_v<SgConfigRecord>,
               "SgConfigRecord must be 88 bytes without padding: a BuildConfig field was added? "
@@ -144,7 +152,7 @@ static_assert(sizeof(SgConfigRecord) == 10 * 4 + 3 * 8 + 2 * 12 && sizeof(SgConf
 static_assert(offsetof(SgConfigRecord, stop_by_cost) == 40 &&
                   offsetof(SgConfigRecord, triangle_count) == 48 &&
                   offsetof(SgConfigRecord, root_index) == 76 &&
-                  offsetof(SgConfigRecord, reserved) == 84,
+                  offsetof(SgConfigRecord, build_flags) == 84,
               "SgConfigRecord field offsets differ from docs/FORMAT.md");
 
 /// One inner node (16 bytes), field for field the GridNode layout of grid_node.hpp. Written

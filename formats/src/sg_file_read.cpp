@@ -324,15 +324,17 @@ SgContents SgReader::decode(const SgReadOptions& options) const
     c.min_cell_width = config.min_cell_width;
     c.stop_by_cost = config.stop_by_cost != 0;
     c.threads = config.threads;
+    c.bounding_planes = (config.build_flags & detail::sg_flag_no_bounding_planes) == 0;
+    c.clip_triangles = (config.build_flags & detail::sg_flag_no_clip_triangles) == 0;
     const std::uint64_t conf_at = entry(SgSection::config).offset;
     if (config.stop_by_cost > 1)
         fail_at("CONF stop_by_cost is not a boolean",
                 conf_at + offsetof(detail::SgConfigRecord, stop_by_cost), "0 or 1",
                 std::to_string(config.stop_by_cost));
-    if (config.reserved != 0)
-        fail_at("reserved CONF field is not zero",
-                conf_at + offsetof(detail::SgConfigRecord, reserved), "0",
-                std::to_string(config.reserved));
+    if ((config.build_flags & ~detail::sg_known_build_flags) != 0)
+        fail_at("CONF build_flags has unknown bits set",
+                conf_at + offsetof(detail::SgConfigRecord, build_flags), "bits 0-1 only",
+                hex32(config.build_flags));
     try {
         validate(c);
     } catch (const Error& e) {

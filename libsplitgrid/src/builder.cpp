@@ -190,6 +190,10 @@ private:
         split.axis = axis;
         split.lo = std::max(box.lower[axis], tight.lower[axis] - pad_);
         split.hi = std::max(split.lo, std::min(box.upper[axis], tight.upper[axis] + pad_));
+        if (!config_.bounding_planes) {
+            split.lo = box.lower[axis];
+            split.hi = box.upper[axis];
+        }
         split.resolution = node_resolution(config_, n);
         if (config_.min_cell_width > 0.0) {
             // The whole triangles' extent, not the clipped one: clipped pieces shrink with the
@@ -264,6 +268,19 @@ private:
                           [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
     }
 
+    // The triangle's bounding box intersected with `clip_box` (BuildConfig::clip_triangles
+    // off); false when they do not touch.
+    static bool clip_triangle_box(const Vec3d& a, const Vec3d& b, const Vec3d& c,
+                                  const Aabbd& clip_box, Aabbd& out) noexcept
+    {
+        for (int k = 0; k < 3; ++k) {
+            out.lower[k] = std::max(std::min({a[k], b[k], c[k]}), clip_box.lower[k]);
+            out.upper[k] = std::min(std::max({a[k], b[k], c[k]}), clip_box.upper[k]);
+            if (out.lower[k] > out.upper[k]) return false;
+        }
+        return true;
+    }
+
     TriExtent clipped_extent(std::uint32_t tri, const Aabbd& clip_box) const noexcept
     {
         const Vec3d a(mesh_.vertex(tri, 0));
@@ -272,7 +289,8 @@ private:
         Aabbd clipped;
         TriExtent e;
         e.known = true;
-        if (!clip_triangle_bounds(a, b, c, clip_box, clipped)) {
+        if (config_.clip_triangles ? !clip_triangle_bounds(a, b, c, clip_box, clipped)
+                                   : !clip_triangle_box(a, b, c, clip_box, clipped)) {
             e.is_empty = true;
             return e;
         }

@@ -138,7 +138,8 @@ TEST(SgBuild, BuildFlagsReachTheFile)
                                   "--resolution-max", "16", "--resolution-sigma", "10.5",
                                   "--leaf-size", "2", "--max-depth", "5",
                                   "--no-progress-fraction", "0.75", "--min-cell-width", "0.5",
-                                  "--no-stop-by-cost", "--threads", "2", "-q"},
+                                  "--no-stop-by-cost", "--no-bounding-planes",
+                                  "--no-clip-triangles", "--threads", "2", "-q"},
                                  scratch);
     ASSERT_EQ(run.exit_code, 0) << describe(run);
     EXPECT_EQ(run.err, "") << "-q prints errors only";
@@ -152,6 +153,8 @@ TEST(SgBuild, BuildFlagsReachTheFile)
     expected.no_progress_fraction = 0.75;
     expected.min_cell_width = 0.5;
     expected.stop_by_cost = false;
+    expected.bounding_planes = false;
+    expected.clip_triangles = false;
     expected.threads = 0;  // not kept: the result does not depend on it
     EXPECT_EQ(contents.grid.config, expected);
     const GridStats stats = compute_stats(contents.grid);

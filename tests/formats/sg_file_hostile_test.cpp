@@ -304,8 +304,8 @@ TEST_F(SgHostile, RecordSizeChangesAreRefusedNamingTheRecord)
     bad = bytes_;
     store_le<std::uint32_t>(bad, conf_at + 84, 9);
     EXPECT_EQ(refusal(bad, "r.sg", no_checksums),
-              "r.sg: reserved CONF field is not zero (at byte offset " + std::to_string(conf_at + 84) +
-                  ", expected 0, found 9)");
+              "r.sg: CONF build_flags has unknown bits set (at byte offset " +
+                  std::to_string(conf_at + 84) + ", expected bits 0-1 only, found 0x00000009)");
     bad = bytes_;
     store_le<std::uint32_t>(bad, conf_at + 40, 2);
     EXPECT_EQ(refusal(bad, "r.sg", no_checksums),

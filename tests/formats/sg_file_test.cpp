@@ -40,6 +40,8 @@ BuildConfig test_config()
     c.no_progress_fraction = 0.75;
     c.min_cell_width = 0.5;
     c.stop_by_cost = false;
+    c.bounding_planes = false;
+    c.clip_triangles = false;
     c.threads = 2;
     return c;
 }
@@ -232,7 +234,7 @@ TEST(SgFile, LayoutMatchesFormatDocument)
     EXPECT_EQ(load_le<float>(f, conf + 72), c.grid.root_box.upper.z);
     EXPECT_EQ(load_le<std::uint32_t>(f, conf + 76), c.grid.root.index());
     EXPECT_EQ(load_le<std::uint32_t>(f, conf + 80), c.grid.root.raw_count());
-    EXPECT_EQ(load_le<std::uint32_t>(f, conf + 84), 0u) << "reserved";
+    EXPECT_EQ(load_le<std::uint32_t>(f, conf + 84), 3u) << "build_flags: both options off";
 
     // First records of the array sections, per grid_node.hpp's layouts.
     const auto section_offset = [&](std::size_t i) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "splitgrid/cell_math.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/stats.hpp"
 #include "splitgrid/traverse.hpp"
@@ -93,23 +94,100 @@ TEST(Builder, ManyCopiesOfOneTriangleStopSplitting)
     EXPECT_TRUE(hit.is_hit());
 }
 
-TEST(Builder, TrianglesAreReferencedOnlyWhereTheyReallyAre)
+// 4000 small random triangles and, last, one long sliver along the box's diagonal.
+Mesh small_triangles_and_a_diagonal_sliver()
 {
-    // A long diagonal sliver crosses many cells' bounding boxes but few cells; box-overlap
-    // assignment would reference it in about resolution^2 cells of a 2-level grid.
     Mesh mesh = test::random_triangles(5, 4000, box10, 0.1f);
     const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
     mesh.vertices.push_back({0, 0, 0});
     mesh.vertices.push_back({10, 10, 10});
     mesh.vertices.push_back({10, 10.01f, 10});
     mesh.triangles.push_back(Triangle{{base, base + 1, base + 2}});
+    return mesh;
+}
+
+TEST(Builder, TrianglesAreReferencedOnlyWhereTheyReallyAre)
+{
+    // A long diagonal sliver crosses many cells' bounding boxes but few cells; box-overlap
+    // assignment would reference it in about resolution^2 cells of a 2-level grid.
+    const Mesh mesh = small_triangles_and_a_diagonal_sliver();
+    const auto sliver = static_cast<std::uint32_t>(mesh.triangles.size() - 1);
     const SplitGrid grid = build_checked(mesh);
     std::size_t sliver_refs = 0;
-    for (TriangleRef r : grid.triangle_refs) sliver_refs += (r == base / 3) ? 1 : 0;
+    for (TriangleRef r : grid.triangle_refs) sliver_refs += (r == sliver) ? 1 : 0;
     const GridStats stats = compute_stats(grid);
     EXPECT_GT(sliver_refs, 0u);
     // Clipping keeps the sliver to the cells along the diagonal: far fewer than the leaves.
     EXPECT_LT(sliver_refs * 10, stats.leaf_cells);
+}
+
+TEST(Builder, WithoutClippingTheSliverIsReferencedByItsBoundingBoxAndStillFound)
+{
+    // The same scene as above with clip_triangles off: the sliver's bounding box is the whole
+    // scene, so it lands in far more cells; the grid stays exact.
+    const Mesh mesh = small_triangles_and_a_diagonal_sliver();
+    const auto sliver = static_cast<std::uint32_t>(mesh.triangles.size() - 1);
+    auto refs_of_sliver = [&](const SplitGrid& g) {
+        std::size_t n = 0;
+        for (TriangleRef r : g.triangle_refs) n += (r == sliver) ? 1 : 0;
+        return n;
+    };
+    BuildConfig config;
+    const std::size_t clipped = refs_of_sliver(build_checked(mesh, config));
+    config.clip_triangles = false;
+    const SplitGrid boxed = build_checked(mesh, config);
+    EXPECT_GT(refs_of_sliver(boxed), 4 * clipped);
+    const auto rays = test::rays_at_triangles(51, 4000, box10, mesh.view());
+    const auto report = test::compare_with_brute_force(boxed, mesh.view(), rays);
+    EXPECT_EQ(report.closest_disagreements, 0u) << report.first_failure;
+    EXPECT_EQ(report.any_hit_disagreements, 0u) << report.first_failure;
+}
+
+// Every node's box, by walking down from the root box (cells narrow the parent's box).
+void collect_node_boxes(const SplitGrid& grid, std::uint32_t node, const Aabb& box,
+                        std::vector<Aabb>& boxes)
+{
+    boxes[node] = box;
+    const GridNode& n = grid.nodes[node];
+    const CellMath cm(n.lo, n.hi, n.resolution());
+    for (std::uint32_t c = 0; c < n.resolution(); ++c) {
+        const CellRef cell = grid.cells[n.first_cell() + c];
+        if (cell.is_inner()) collect_node_boxes(grid, cell.child(), cm.cell_box(box, n.axis(), c), boxes);
+    }
+}
+
+TEST(Builder, WithoutBoundingPlanesEveryNodeSpansItsBoxAndStaysExact)
+{
+    Mesh mesh = test::random_triangles(6, 3000, box10, 0.4f);
+    test::append(mesh, test::uv_sphere({3, 3, 3}, 1.5f, 16, 24));
+    BuildConfig config;
+    config.bounding_planes = false;
+    const SplitGrid grid = build_checked(mesh, config);
+    ASSERT_TRUE(grid.root.is_inner());
+    std::vector<Aabb> boxes(grid.nodes.size());
+    collect_node_boxes(grid, grid.root.child(), grid.root_box, boxes);
+    for (std::size_t k = 0; k < grid.nodes.size(); ++k) {
+        const int axis = grid.nodes[k].axis();
+        EXPECT_EQ(grid.nodes[k].lo, boxes[k].lower[axis]) << "node " << k;
+        EXPECT_EQ(grid.nodes[k].hi, boxes[k].upper[axis]) << "node " << k;
+    }
+    auto rays = test::random_rays(61, 3000, box10);
+    const auto aimed = test::rays_at_triangles(62, 3000, box10, mesh.view());
+    rays.insert(rays.end(), aimed.begin(), aimed.end());
+    const auto report = test::compare_with_brute_force(grid, mesh.view(), rays);
+    EXPECT_EQ(report.closest_disagreements, 0u) << report.first_failure;
+    EXPECT_EQ(report.any_hit_disagreements, 0u) << report.first_failure;
+    // With the planes, some node is narrower than its box: the option changes something.
+    const SplitGrid tight = build_checked(mesh);
+    std::vector<Aabb> tight_boxes(tight.nodes.size());
+    collect_node_boxes(tight, tight.root.child(), tight.root_box, tight_boxes);
+    std::size_t narrowed = 0;
+    for (std::size_t k = 0; k < tight.nodes.size(); ++k) {
+        const int axis = tight.nodes[k].axis();
+        narrowed += tight.nodes[k].lo > tight_boxes[k].lower[axis] ||
+                    tight.nodes[k].hi < tight_boxes[k].upper[axis];
+    }
+    EXPECT_GT(narrowed, tight.nodes.size() / 4);
 }
 
 TEST(Builder, RejectsBadConfigAndBadMesh)

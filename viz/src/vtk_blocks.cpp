@@ -259,6 +259,8 @@ void add_field_data(vtkDataObject& block, const FieldFacts& facts)
     add_field<vtkDoubleArray>(f, "build_no_progress_fraction", c.no_progress_fraction);
     add_field<vtkDoubleArray>(f, "build_min_cell_width", c.min_cell_width);
     add_field<vtkTypeInt64Array>(f, "build_stop_by_cost", c.stop_by_cost ? 1 : 0);
+    add_field<vtkTypeInt64Array>(f, "build_bounding_planes", c.bounding_planes ? 1 : 0);
+    add_field<vtkTypeInt64Array>(f, "build_clip_triangles", c.clip_triangles ? 1 : 0);
 
     add_field<vtkTypeInt64Array>(f, "grid_triangle_count", grid.triangle_count);
     add_field<vtkTypeInt64Array>(f, "grid_node_count", static_cast<vtkTypeInt64>(grid.nodes.size()));

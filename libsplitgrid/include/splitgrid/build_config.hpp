@@ -50,6 +50,15 @@ struct BuildConfig {
     /// it, fans of triangles around a vertex and cells smaller than their triangles are split
     /// down to max_depth. A split that fails is retried on the other axes.
     bool stop_by_cost = true;
+    /// Cut each node's slab down to the tight extent of its clipped triangles along the split
+    /// axis (the poster's bounding planes), so that a ray missing [lo, hi] skips the node.
+    /// false makes lo and hi the node box's own faces: a plain nested grid, for sg-bench's
+    /// sweep to show what the planes are worth.
+    bool bounding_planes = true;
+    /// Reference a triangle in a cell only if the triangle itself, clipped to the node's box
+    /// in double precision, touches the cell. false uses the triangle's bounding box clipped
+    /// to the node's box instead (cheaper to build, more references): for sg-bench's sweep.
+    bool clip_triangles = true;
     /// Worker threads for the build; 0 means all hardware threads. Range [0, 1024]. The
     /// output is bit-identical for every value.
     std::uint32_t threads = 0;
