@@ -145,7 +145,7 @@ void add_log_flags(CLI::App& app, LogOptions& options)
     verbose->excludes(quiet);
 }
 
-void add_build_config_flags(CLI::App& app, BuildConfig& config)
+void add_build_config_flags(CLI::App& app, BuildConfig& config, bool with_threads)
 {
     const BuildConfig defaults{};
     const std::string group = "Build parameters (BuildConfig)";
@@ -221,13 +221,14 @@ void add_build_config_flags(CLI::App& app, BuildConfig& config)
                              defaults.clip_triangles ? "--clip-triangles"
                                                      : "--no-clip-triangles"))
         ->group(group);
-    app.add_option("--threads", config.threads,
-                   fmt::format("Worker threads for the build, 0 = all hardware threads; the "
-                               "output is bit-identical for every value. Range [0, {}]. "
-                               "Default {}.",
-                               max_threads_flag, defaults.threads))
-        ->check(uint_in(0, max_threads_flag))
-        ->group(group);
+    if (with_threads)
+        app.add_option("--threads", config.threads,
+                       fmt::format("Worker threads for the build, 0 = all hardware threads; the "
+                                   "output is bit-identical for every value. Range [0, {}]. "
+                                   "Default {}.",
+                                   max_threads_flag, defaults.threads))
+            ->check(uint_in(0, max_threads_flag))
+            ->group(group);
 
     // Fields that are fine alone can still be wrong together (resolution_min above
     // resolution_max): the library's own check decides, and since the user typed the values,

@@ -61,12 +61,14 @@ void add_log_flags(CLI::App& app, LogOptions& options);
 
 /// Adds one flag per BuildConfig field (--resolution-min, --resolution-max,
 /// --resolution-sigma, --leaf-size, --max-depth, --no-progress-fraction, --min-cell-width,
-/// --stop-by-cost / --no-stop-by-cost, --threads), each with
+/// --stop-by-cost / --no-stop-by-cost, --bounding-planes / --no-bounding-planes,
+/// --clip-triangles / --no-clip-triangles, and --threads unless `with_threads` is false, for
+/// a tool with a --threads of its own), each with
 /// the field's documentation, valid range and default in --help. Values outside a field's
 /// range are refused by CLI11 (exit code 1); after parsing, sg::validate() checks the fields
 /// together (e.g. resolution_min <= resolution_max) and a failure is also a usage error.
 /// `config` must outlive the parse.
-void add_build_config_flags(CLI::App& app, BuildConfig& config);
+void add_build_config_flags(CLI::App& app, BuildConfig& config, bool with_threads = true);
 
 /// Runs a tool: parses the command line, sets up the logger from `log`, calls `work` and
 /// returns its exit code. The one place where exceptions become exit codes: CLI11 parse

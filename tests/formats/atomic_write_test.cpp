@@ -15,6 +15,7 @@
 #include "splitgrid/error.hpp"
 #include "splitgrid/formats/ray_file.hpp"
 #include "splitgrid/formats/sg_file.hpp"
+#include "splitgrid/formats/text_file.hpp"
 #include "support/random_scene.hpp"
 
 namespace sg {
@@ -50,6 +51,19 @@ TEST(AtomicWrite, LeavesOnlyTheTargetBehind)
     write_sg_file(dir / "a.sg", some_contents(50));
     write_ray_file(dir / "r.rays", std::vector<Ray>(3));
     EXPECT_EQ(dir.entries(), (std::vector<std::string>{"a.sg", "r.rays"}));
+}
+
+TEST(AtomicWrite, TextFileIsReadBackAsWrittenAndReplacesTheOld)
+{
+    test::ScratchDir dir;
+    const auto path = dir / "results.csv";
+    test::write_text(path, std::string(5000, 'x'));
+    const std::string text = "scene,structure\ndragon,splitgrid\n";
+    write_text_file(path, text);
+    EXPECT_EQ(test::read_text(path), text);
+    EXPECT_EQ(dir.entries(), (std::vector<std::string>{"results.csv"}));
+    EXPECT_NE(io_error_of([&] { write_text_file(dir / "no" / "such.csv", text); }).find("such.csv"),
+              std::string::npos);
 }
 
 TEST(AtomicWrite, ReplacesAnExistingFileCompletely)

@@ -1,0 +1,246 @@
+#include "bench_report.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+#include "splitgrid/version.hpp"
+
+#include <spdlog/fmt/fmt.h>
+
+namespace sg::bench {
+namespace {
+
+using apps::Json;
+
+double per_triangle(std::size_t value, std::size_t triangles)
+{
+    return triangles ? static_cast<double>(value) / static_cast<double>(triangles) : 0.0;
+}
+
+// {"1": x, "2": y}: values keyed by thread count.
+Json by_threads(const std::vector<double>& values, const BenchPlan& plan)
+{
+    Json j = Json::object();
+    for (std::size_t k = 0; k < values.size() && k < plan.thread_counts.size(); ++k)
+        j[std::to_string(plan.thread_counts[k])] = values[k];
+    return j;
+}
+
+const StructureResult* find_structure(const SceneResult& scene, const std::string& name)
+{
+    for (const StructureResult& s : scene.structures)
+        if (s.structure == name) return &s;
+    return nullptr;
+}
+
+}  // namespace
+
+Json results_json(const BenchResults& results, const BenchPlan& plan, const RunInfo& info)
+{
+    Json j;
+    j["schema_version"] = apps::json_schema_version;
+    j["tool"] = "sg-bench";
+    j["splitgrid_version"] = version_string;
+    j["embree_version"] = embree_version();
+    j["machine"] = {{"cpu", info.machine},
+                    {"hardware_threads", info.hardware_threads},
+                    {"compiler", info.compiler}};
+    j["run_seconds"] = info.seconds;
+    j["plan"] = {{"quick", info.quick},
+                 {"structures", plan.structures},
+                 {"thread_counts", plan.thread_counts},
+                 {"build_repeats", plan.build_repeats},
+                 {"trace_repeats", plan.trace_repeats},
+                 {"image_width", plan.sizes.width},
+                 {"image_height", plan.sizes.height},
+                 {"bounces", plan.sizes.bounces},
+                 {"incoherent_rays", plan.sizes.incoherent_rays},
+                 {"oracle_rays", plan.oracle_rays},
+                 {"oracle_budget", plan.oracle_budget},
+                 {"watertight_triangles", plan.watertight_triangles},
+                 {"watertight_rays", plan.watertight_rays},
+                 {"sweep_rays", plan.sweep_rays},
+                 {"scale_sizes", plan.scale_sizes},
+                 {"seed", plan.seed},
+                 {"split_grid_config", apps::to_json(plan.configs.split_grid)}};
+
+    Json scenes = Json::array();
+    for (const SceneResult& scene : results.scenes) {
+        Json s;
+        s["scene"] = scene.scene;
+        s["source"] = scene.source;
+        s["triangles"] = scene.triangles;
+        s["vertices"] = scene.vertices;
+        s["workload_seconds"] = scene.workload_seconds;
+        Json workloads = Json::array();
+        for (std::size_t k = 0; k < scene.workload_names.size(); ++k)
+            workloads.push_back({{"name", scene.workload_names[k]}, {"rays", scene.workload_rays[k]}});
+        s["workloads"] = workloads;
+        Json structures = Json::array();
+        for (const StructureResult& sr : scene.structures) {
+            Json st;
+            st["structure"] = sr.structure;
+            st["build_seconds"] = by_threads(sr.build_seconds, plan);
+            st["structure_bytes"] = sr.structure_bytes;
+            st["total_bytes"] = sr.total_bytes;
+            st["structure_bytes_per_triangle"] = per_triangle(sr.structure_bytes, scene.triangles);
+            st["total_bytes_per_triangle"] = per_triangle(sr.total_bytes, scene.triangles);
+            st["references"] = sr.references;
+            st["references_per_triangle"] = per_triangle(sr.references, scene.triangles);
+            Json wl = Json::array();
+            for (const WorkloadResult& w : sr.workloads)
+                wl.push_back({{"workload", w.workload},
+                              {"rays", w.rays},
+                              {"any_hit", w.any_hit},
+                              {"hit_fraction", w.hit_fraction},
+                              {"mrays_per_s", by_threads(w.mrays_per_s, plan)},
+                              {"oracle_rays", w.oracle_rays},
+                              {"oracle_disagreements", w.oracle_disagreements},
+                              {"reference_disagreements", w.reference_disagreements}});
+            st["workloads"] = wl;
+            structures.push_back(st);
+        }
+        s["structures"] = structures;
+        scenes.push_back(s);
+    }
+    j["scenes"] = scenes;
+
+    Json accuracy = Json::array();
+    for (const AccuracyResult& a : results.accuracy)
+        accuracy.push_back({{"structure", a.structure},
+                            {"variant", a.variant},
+                            {"position", a.position},
+                            {"rays", a.rays},
+                            {"misses", a.misses},
+                            {"misses_per_million", a.misses_per_million()},
+                            {"misses_random", a.misses_random},
+                            {"misses_vertex", a.misses_vertex},
+                            {"misses_edge", a.misses_edge},
+                            {"mrays_per_s", a.mrays_per_s}});
+    j["accuracy"] = accuracy;
+
+    Json sweep = Json::array();
+    for (const SweepResult& p : results.sweep)
+        sweep.push_back({{"parameter", p.parameter},
+                         {"value", p.value},
+                         {"config", apps::to_json(p.config)},
+                         {"build_seconds", p.build_seconds},
+                         {"mrays_per_s", p.mrays_per_s},
+                         {"total_bytes_per_triangle", p.bytes_per_triangle},
+                         {"references_per_triangle", p.references_per_triangle},
+                         {"disagreements", p.disagreements}});
+    j["sweep"] = {{"scene", results.sweep_scene},
+                  {"threads", plan.thread_counts.empty() ? 0u : plan.thread_counts.back()},
+                  {"points", sweep}};
+
+    Json scale = Json::array();
+    for (const ScaleResult& r : results.scale)
+        scale.push_back({{"structure", r.structure},
+                         {"triangles", r.triangles},
+                         {"build_seconds", r.build_seconds},
+                         {"structure_bytes_per_triangle", r.structure_bytes_per_triangle},
+                         {"total_bytes_per_triangle", r.total_bytes_per_triangle},
+                         {"references_per_triangle", r.references_per_triangle}});
+    j["scale"] = {{"model", results.scale_model}, {"points", scale}};
+    return j;
+}
+
+std::string results_csv(const BenchResults& results, const BenchPlan& plan)
+{
+    std::string out = "scene,triangles,structure";
+    for (unsigned t : plan.thread_counts) out += fmt::format(",build_seconds_{}t", t);
+    out += ",structure_bytes_per_triangle,total_bytes_per_triangle,references_per_triangle,"
+           "workload,rays,hit_fraction";
+    for (unsigned t : plan.thread_counts) out += fmt::format(",mrays_per_s_{}t", t);
+    out += ",oracle_rays,oracle_disagreements,reference_disagreements\n";
+    for (const SceneResult& scene : results.scenes)
+        for (const StructureResult& sr : scene.structures)
+            for (const WorkloadResult& w : sr.workloads) {
+                out += fmt::format("{},{},{}", scene.scene, scene.triangles, sr.structure);
+                for (double b : sr.build_seconds) out += fmt::format(",{:.6f}", b);
+                out += fmt::format(",{:.3f},{:.3f},{:.4f},{},{},{:.6f}",
+                                   per_triangle(sr.structure_bytes, scene.triangles),
+                                   per_triangle(sr.total_bytes, scene.triangles),
+                                   per_triangle(sr.references, scene.triangles), w.workload,
+                                   w.rays, w.hit_fraction);
+                for (double m : w.mrays_per_s) out += fmt::format(",{:.4f}", m);
+                out += fmt::format(",{},{},{}\n", w.oracle_rays, w.oracle_disagreements,
+                                   w.reference_disagreements);
+            }
+    return out;
+}
+
+std::string results_table(const BenchResults& results, const BenchPlan& plan)
+{
+    std::string out;
+    const unsigned last_threads = plan.thread_counts.back();
+    for (const SceneResult& scene : results.scenes) {
+        out += fmt::format("\n{} ({} triangles, {})\n", scene.scene, scene.triangles, scene.source);
+        out += fmt::format("  {:<13}", "structure");
+        for (unsigned t : plan.thread_counts) out += fmt::format(" {:>9}", fmt::format("build {}t", t));
+        out += fmt::format(" {:>8} {:>8}", "B/tri", "refs/tri");
+        for (const std::string& w : scene.workload_names)
+            out += fmt::format(" {:>16}", fmt::format("{} {}t", w, last_threads));
+        out += fmt::format(" {:>9}\n", "disagree");
+        const StructureResult* embree = find_structure(scene, "embree");
+        for (const StructureResult& sr : scene.structures) {
+            out += fmt::format("  {:<13}", sr.structure);
+            for (double b : sr.build_seconds) out += fmt::format(" {:>8.3f}s", b);
+            out += fmt::format(" {:>8.1f} {:>8.2f}", per_triangle(sr.total_bytes, scene.triangles),
+                               per_triangle(sr.references, scene.triangles));
+            std::size_t disagreements = 0;
+            for (std::size_t k = 0; k < sr.workloads.size(); ++k) {
+                const WorkloadResult& w = sr.workloads[k];
+                const double m = w.mrays_per_s.back();
+                std::string cell = fmt::format("{:.2f}", m);
+                if (embree && embree != &sr && embree->workloads[k].mrays_per_s.back() > 0.0)
+                    cell += fmt::format(" ({:.2f}x)", m / embree->workloads[k].mrays_per_s.back());
+                out += fmt::format(" {:>16}", cell);
+                disagreements += w.oracle_disagreements + w.reference_disagreements;
+            }
+            out += fmt::format(" {:>9}\n", disagreements);
+        }
+    }
+    out += "\n  Mrays/s per workload; (x) = ratio to Embree; B/tri = structure + mesh bytes per "
+           "triangle;\n  disagree = brute-force sample + all rays against the first structure "
+           "(Embree: t within 1e-4).\n";
+
+    if (!results.accuracy.empty()) {
+        out += "\nwatertightness: rays from inside a closed sphere (misses per million, Mrays/s "
+               "on 1 thread)\n";
+        out += fmt::format("  {:<13} {:<24} {:>14} {:>14} {:>9}\n", "structure", "variant",
+                           "origin", "far", "Mrays/s");
+        for (const AccuracyResult& a : results.accuracy) {
+            if (a.position != "origin") continue;
+            const AccuracyResult* far = nullptr;
+            for (const AccuracyResult& b : results.accuracy)
+                if (b.position == "far" && b.structure == a.structure && b.variant == a.variant) far = &b;
+            out += fmt::format("  {:<13} {:<24} {:>14.1f} {:>14.1f} {:>9.2f}\n", a.structure,
+                               a.variant, a.misses_per_million(),
+                               far ? far->misses_per_million() : 0.0, a.mrays_per_s);
+        }
+    }
+    if (!results.sweep.empty()) {
+        out += fmt::format("\nSplit Grid parameter sweep on {} ({} threads)\n", results.sweep_scene,
+                           last_threads);
+        out += fmt::format("  {:<18} {:>8} {:>10} {:>9} {:>8} {:>9} {:>9}\n", "parameter", "value",
+                           "build s", "Mrays/s", "B/tri", "refs/tri", "disagree");
+        for (const SweepResult& p : results.sweep)
+            out += fmt::format("  {:<18} {:>8} {:>10.3f} {:>9.3f} {:>8.1f} {:>9.2f} {:>9}\n",
+                               p.parameter, p.value, p.build_seconds, p.mrays_per_s,
+                               p.bytes_per_triangle, p.references_per_triangle, p.disagreements);
+    }
+    if (!results.scale.empty()) {
+        out += fmt::format("\nmemory against scene size (from {})\n", results.scale_model);
+        out += fmt::format("  {:>10} {:<13} {:>10} {:>10} {:>9} {:>9}\n", "triangles", "structure",
+                           "build s", "B/tri", "struct B", "refs/tri");
+        for (const ScaleResult& r : results.scale)
+            out += fmt::format("  {:>10} {:<13} {:>10.3f} {:>10.1f} {:>9.1f} {:>9.2f}\n",
+                               r.triangles, r.structure, r.build_seconds,
+                               r.total_bytes_per_triangle, r.structure_bytes_per_triangle,
+                               r.references_per_triangle);
+    }
+    return out;
+}
+
+}  // namespace sg::bench

@@ -1,0 +1,92 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "splitgrid/baselines/bvh.hpp"
+#include "splitgrid/baselines/kd_tree.hpp"
+#include "splitgrid/baselines/uniform_grid.hpp"
+#include "splitgrid/build_config.hpp"
+#include "splitgrid/mesh.hpp"
+#include "splitgrid/query_policy.hpp"
+#include "splitgrid/ray.hpp"
+
+/// The one interface sg-bench measures every acceleration structure through: build on a mesh
+/// with a thread count, report memory, trace batches of rays. Batches, not single rays, cross
+/// the virtual call, so the per-ray loop of each structure is its own inlined code.
+namespace sg::bench {
+
+/// Which ray/triangle test and interval padding a query uses (query_policy.hpp). The
+/// default is the exact pair; the others feed the speed-against-accuracy chart.
+enum class TriangleTestKind { Watertight, MollerTrumbore };
+struct QueryVariant {
+    TriangleTestKind test = TriangleTestKind::Watertight;
+    Padding padding = Padding::Conservative;
+    friend bool operator==(const QueryVariant&, const QueryVariant&) = default;
+};
+/// "watertight", "watertight-nopad", "moller-trumbore", "moller-trumbore-nopad".
+[[nodiscard]] std::string variant_name(const QueryVariant& variant);
+/// The four variants of our own structures, exact first.
+[[nodiscard]] std::vector<QueryVariant> all_variants();
+
+/// A built structure over one mesh (which the caller keeps alive).
+class BenchStructure {
+public:
+    virtual ~BenchStructure() = default;
+
+    /// Seconds the build took, measured by the structure around its own build call (for
+    /// Embree: scene creation to commit, without creating the device).
+    [[nodiscard]] virtual double build_seconds() const = 0;
+    /// Bytes of the acceleration structure alone, without the mesh (for Embree: what its
+    /// memory monitor counts, less its own copy of the vertices). Everything needed to trace
+    /// is this plus the mesh: 12 bytes per vertex and 12 per triangle for every structure.
+    [[nodiscard]] virtual std::size_t structure_bytes() const = 0;
+    /// Triangle references held by the structure (for Embree: 0, not exposed).
+    [[nodiscard]] virtual std::size_t reference_count() const = 0;
+    /// Whether `variant` can be run (Embree runs only its own test: the default variant).
+    [[nodiscard]] virtual bool supports(const QueryVariant& variant) const
+    {
+        return variant == QueryVariant{};
+    }
+    /// Closest hits of `rays` into `hits` (same size), serially in the calling thread.
+    virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits,
+                           const QueryVariant& variant) const = 0;
+    /// Any-hit answers (1 = occluded) of `rays` into `occluded` (same size).
+    virtual void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const = 0;
+};
+
+/// Parameters of every structure sg-bench can build; each keeps its library defaults
+/// unless a flag changes them.
+struct StructureConfigs {
+    BuildConfig split_grid;
+    UniformGridConfig uniform_grid;
+    KdTreeConfig kd_tree;
+    BvhConfig bvh;
+    /// Embree's scene flags: RTC_SCENE_FLAG_ROBUST when true (the "embree-robust" variant).
+    bool embree_robust = false;
+};
+
+/// Names sg-bench accepts for --structures, in report order: "splitgrid", "uniform_grid",
+/// "kd_tree", "bvh", and "embree" when the build found Embree (SG_WITH_EMBREE).
+[[nodiscard]] std::vector<std::string> structure_names();
+/// True if this build of sg-bench includes Embree.
+[[nodiscard]] bool has_embree();
+/// Version string of the Embree library, or "" without Embree.
+[[nodiscard]] std::string embree_version();
+
+/// Builds structure `name` (one of structure_names()) over `mesh` with `threads` worker
+/// threads. Throws ConfigError for an unknown name or bad config.
+[[nodiscard]] std::unique_ptr<BenchStructure> build_structure(const std::string& name,
+                                                              const MeshView& mesh,
+                                                              const StructureConfigs& configs,
+                                                              unsigned threads);
+
+/// Embree (embree_structure.cpp), only in builds with SG_WITH_EMBREE.
+[[nodiscard]] std::unique_ptr<BenchStructure> build_embree(const MeshView& mesh, bool robust,
+                                                           unsigned threads);
+
+}  // namespace sg::bench
