@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -15,6 +16,7 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -39,11 +41,13 @@ struct Options {
     std::vector<fs::path> meshes;
     fs::path out = "sg-bench-results";
     bool quick = false;
-    std::vector<std::string> structures;
-    std::vector<unsigned> threads;
+    // Comma-separated lists, split by bench() (one token each, so that they never swallow
+    // the MESH arguments that follow).
+    std::string structures_text;
+    std::string threads_text;
     fs::path scale_model;
-    std::vector<double> scale_sizes;
-    std::vector<double> arena_sizes;
+    std::string scale_sizes_text;
+    std::string arena_sizes_text;
     bool no_sweep = false;
     bool no_charts = false;
     fs::path charts_script = SG_BENCH_CHARTS_SCRIPT;
@@ -63,11 +67,43 @@ std::string cpu_model()
     return "unknown";
 }
 
-std::size_t count_of(double value, const char* flag)
+std::vector<std::string> split_list(const std::string& text)
 {
-    if (!(value >= 1.0 && value <= 4e9))
-        throw CLI::ValidationError(fmt::format("{}: {} is not a triangle count in [1, 4e9]", flag, value));
-    return static_cast<std::size_t>(std::llround(value));
+    std::vector<std::string> items;
+    std::string item;
+    std::istringstream in(text);
+    while (std::getline(in, item, ','))
+        if (!item.empty()) items.push_back(item);
+    return items;
+}
+
+/// "1e6" or "2500000" as a triangle count in [1, 4e9]; a usage error otherwise.
+std::vector<std::size_t> counts_of(const std::string& text, const char* flag)
+{
+    std::vector<std::size_t> counts;
+    for (const std::string& item : split_list(text)) {
+        double value = 0.0;
+        const auto [ptr, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
+        if (ec != std::errc{} || ptr != item.data() + item.size() || !(value >= 1.0 && value <= 4e9))
+            throw CLI::ValidationError(
+                fmt::format("{}: {} is not a triangle count in [1, 4e9]", flag, item));
+        counts.push_back(static_cast<std::size_t>(std::llround(value)));
+    }
+    return counts;
+}
+
+std::vector<unsigned> threads_of(const std::string& text)
+{
+    std::vector<unsigned> threads;
+    for (const std::string& item : split_list(text)) {
+        unsigned value = 0;
+        const auto [ptr, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
+        if (ec != std::errc{} || ptr != item.data() + item.size() || value < 1 || value > 1024)
+            throw CLI::ValidationError(
+                fmt::format("--threads: {} is not a thread count in [1, 1024]", item));
+        threads.push_back(value);
+    }
+    return threads;
 }
 
 // "arena_1e+06" is awkward in file names: 1e6 -> "1e6", 2.5e6 -> "2.5e6".
@@ -94,13 +130,15 @@ sg::bench::BenchScene load_scene(const fs::path& path)
 // Runs the chart script; a failure is a warning, since the JSON and CSV are written already.
 void make_charts(const Options& options, const fs::path& json)
 {
-    std::vector<std::string> args{"python3", options.charts_script.string(), json.string(),
+    // Debian's interpreter, where python3-matplotlib lives, before any other python3.
+    const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    std::vector<std::string> args{python, options.charts_script.string(), json.string(),
                                   options.out.string()};
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     pid_t pid = 0;
-    const int error = ::posix_spawnp(&pid, "python3", nullptr, nullptr, argv.data(), environ);
+    const int error = ::posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ);
     if (error != 0) {
         spdlog::warn("charts not made: cannot start python3: {}", std::strerror(error));
         return;
@@ -134,24 +172,24 @@ void bench(CLI::App& app, Options& o)
     if (o.quick) apply_quick_defaults(app, o);
     BenchPlan& plan = o.plan;
     plan.sweep = !o.no_sweep;
-    plan.structures = o.structures.empty() ? sg::bench::structure_names() : o.structures;
+    const std::vector<std::string> structures = split_list(o.structures_text);
+    plan.structures = structures.empty() ? sg::bench::structure_names() : structures;
     for (const std::string& s : plan.structures) {
         const auto names = sg::bench::structure_names();
         if (std::find(names.begin(), names.end(), s) == names.end())
             throw CLI::ValidationError(fmt::format(
                 "--structures: unknown structure '{}' (this build knows {})", s, fmt::join(names, ", ")));
     }
-    if (o.threads.empty()) {
-        o.threads = {1};
+    plan.thread_counts = threads_of(o.threads_text);
+    if (plan.thread_counts.empty()) {
+        plan.thread_counts = {1};
         const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-        if (hw > 1) o.threads.push_back(hw);
+        if (hw > 1) plan.thread_counts.push_back(hw);
     }
-    plan.thread_counts = o.threads;
-    for (double s : o.scale_sizes) plan.scale_sizes.push_back(count_of(s, "--scale-sizes"));
-    if (o.meshes.empty() && o.arena_sizes.empty())
+    plan.scale_sizes = counts_of(o.scale_sizes_text, "--scale-sizes");
+    const std::vector<std::size_t> arena_sizes = counts_of(o.arena_sizes_text, "--arena-sizes");
+    if (o.meshes.empty() && (arena_sizes.empty() || o.scale_model.empty()))
         throw CLI::ValidationError("give at least one MESH (or --arena-sizes with --scale-model)");
-    if (!o.arena_sizes.empty() && o.scale_model.empty() && o.meshes.empty())
-        throw CLI::ValidationError("--arena-sizes needs --scale-model or a MESH");
 
     // Check the output folder before any long work: its parent must exist.
     const fs::path parent = o.out.has_parent_path() ? o.out.parent_path() : fs::path(".");
@@ -162,14 +200,13 @@ void bench(CLI::App& app, Options& o)
 
     std::vector<sg::bench::BenchScene> scenes;
     for (const fs::path& m : o.meshes) {
-        spdlog::info("loading {}", m.string());
+        spdlog::debug("loading {}", m.string());
         scenes.push_back(load_scene(m));
     }
     sg::bench::BenchScene model;
     if (!o.scale_model.empty()) model = load_scene(o.scale_model);
     else if (!scenes.empty()) model = scenes.front();
-    for (double a : o.arena_sizes) {
-        const std::size_t n = count_of(a, "--arena-sizes");
+    for (const std::size_t n : arena_sizes) {
         sg::bench::BenchScene arena;
         arena.mesh = sg::bench::scale_scene(model.mesh.view(), n, plan.seed);
         arena.name = "arena_" + size_label(arena.mesh.triangles.size());
@@ -225,27 +262,26 @@ int main(int argc, char** argv)
     app.add_flag("--quick", o.quick,
                  "Small workloads and one repeat, for a smoke test in under a minute: 160x120 "
                  "images, 20k incoherent rays, 10k-triangle sphere; flags given explicitly win");
-    app.add_option("--structures", o.structures,
+    app.add_option("--structures", o.structures_text,
                    "Structures to measure, comma-separated, the first being the reference of "
                    "the cross-check (default: all this build has: " +
                        fmt::format("{}", fmt::join(sg::bench::structure_names(), ",")) + ")")
-        ->delimiter(',');
-    app.add_option("--threads", o.threads,
+        ;
+    app.add_option("--threads", o.threads_text,
                    "Thread counts to build and trace with, comma-separated (default: 1 and "
                    "the hardware threads)")
-        ->delimiter(',')
-        ->check(CLI::Range(1u, 1024u));
+        ;
     app.add_option("--scale-model", o.scale_model,
                    "Mesh the scale series and arena scenes are made from (default: first MESH)");
-    app.add_option("--scale-sizes", o.scale_sizes,
+    app.add_option("--scale-sizes", o.scale_sizes_text,
                    "Triangle counts of the memory-against-size series, comma-separated, e.g. "
                    "1e3,1e4,1e5,1e6,1e7 (default: none). Below the model's size a patch of it, "
                    "above it copies in an arena")
-        ->delimiter(',');
-    app.add_option("--arena-sizes", o.arena_sizes,
+        ;
+    app.add_option("--arena-sizes", o.arena_sizes_text,
                    "Also measure arena scenes of these triangle counts (copies of the scale "
                    "model on a floor, make_arena_scene), e.g. 2.5e6,1e7")
-        ->delimiter(',');
+        ;
     app.add_option("--width", o.plan.sizes.width, "Image width of the primary and path rays")
         ->check(CLI::Range(1, 16384))->capture_default_str();
     app.add_option("--height", o.plan.sizes.height, "Image height")

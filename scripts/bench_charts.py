@@ -1,0 +1,213 @@
+#!/usr/bin/python3
+"""Charts of an sg-bench run (results.json, schema in docs/BENCH.md).
+
+Usage: bench_charts.py RESULTS_JSON OUT_DIR
+
+Writes into OUT_DIR, each PNG replaced atomically (written beside it, then renamed):
+  figure3.png             the poster's Figure 3 for every scene: traversal time of the path
+                          workload, build time and memory per structure
+  speed_vs_accuracy.png   Mrays/s against leaks per million on rays from inside a closed
+                          sphere, per structure, triangle test and padding
+  sweep_build_vs_trace.png  the Split Grid parameter sweep: build time against trace speed,
+                          marker area proportional to bytes per triangle
+  memory_scaling.png      bytes and references per triangle against scene size
+Charts whose data the run did not measure (no sweep, no scale series) are skipped.
+"""
+
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+STRUCTURE_COLOURS = {
+    "splitgrid": "#d62728",
+    "uniform_grid": "#7f7f7f",
+    "kd_tree": "#2ca02c",
+    "bvh": "#1f77b4",
+    "embree": "#9467bd",
+}
+STRUCTURE_LABELS = {
+    "splitgrid": "Split Grid",
+    "uniform_grid": "uniform grid",
+    "kd_tree": "kd-tree",
+    "bvh": "BVH",
+    "embree": "Embree 3",
+}
+
+
+def colour(name):
+    return STRUCTURE_COLOURS.get(name, "#000000")
+
+
+def label(name):
+    return STRUCTURE_LABELS.get(name, name)
+
+
+def save(fig, path):
+    """Writes the figure beside `path` first, so a reader never sees half a PNG."""
+    tmp = os.path.join(os.path.dirname(path), "." + os.path.basename(path) + ".tmp.png")
+    fig.savefig(tmp, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    os.replace(tmp, path)
+
+
+def workload(structure, name):
+    for w in structure["workloads"]:
+        if w["workload"] == name:
+            return w
+    return None
+
+
+def figure3(results, out_dir):
+    scenes = results["scenes"]
+    if not scenes:
+        return None
+    threads = str(results["plan"]["thread_counts"][0])
+    structures = [s["structure"] for s in scenes[0]["structures"]]
+    fig, axes = plt.subplots(3, 1, figsize=(max(7, 1.2 * len(scenes) + 3), 10), sharex=True)
+    width = 0.8 / max(1, len(structures))
+    panels = [
+        ("traversal: path workload (s, %s thread%s)" % (threads, "" if threads == "1" else "s"),
+         lambda s: workload(s, "path")["rays"] / (1e6 * workload(s, "path")["mrays_per_s"][threads])
+         if workload(s, "path") and workload(s, "path")["mrays_per_s"][threads] > 0 else 0.0),
+        ("build (s, %s thread%s)" % (threads, "" if threads == "1" else "s"),
+         lambda s: s["build_seconds"][threads]),
+        ("memory: structure + mesh (bytes/triangle)", lambda s: s["total_bytes_per_triangle"]),
+    ]
+    for ax, (title, value) in zip(axes, panels):
+        for k, name in enumerate(structures):
+            xs, ys = [], []
+            for i, scene in enumerate(scenes):
+                for s in scene["structures"]:
+                    if s["structure"] == name:
+                        xs.append(i + (k - (len(structures) - 1) / 2) * width)
+                        ys.append(value(s))
+            ax.bar(xs, ys, width=width, color=colour(name), label=label(name))
+        ax.set_title(title, fontsize=10)
+        ax.set_yscale("log")
+        ax.grid(axis="y", alpha=0.3)
+    axes[-1].set_xticks(range(len(scenes)))
+    axes[-1].set_xticklabels(["%s\n%s tris" % (s["scene"], human(s["triangles"])) for s in scenes],
+                             rotation=45, ha="right", fontsize=8)
+    axes[0].legend(ncol=len(structures), fontsize=8, loc="upper left")
+    fig.suptitle("Figure 3 of the Split Grid poster, measured here (log scales)")
+    path = os.path.join(out_dir, "figure3.png")
+    save(fig, path)
+    return path
+
+
+def human(n):
+    for unit, scale in (("M", 1e6), ("k", 1e3)):
+        if n >= scale:
+            return "%.3g%s" % (n / scale, unit)
+    return str(n)
+
+
+def speed_vs_accuracy(results, out_dir):
+    points = results["accuracy"]
+    if not points:
+        return None
+    positions = sorted({p["position"] for p in points}, key=lambda p: p != "origin")
+    fig, axes = plt.subplots(1, len(positions), figsize=(6 * len(positions), 5), sharey=True)
+    if len(positions) == 1:
+        axes = [axes]
+    markers = {"watertight": "o", "watertight-nopad": "s", "moller-trumbore": "^",
+               "moller-trumbore-nopad": "v", "default": "D", "robust": "P"}
+    for ax, position in zip(axes, positions):
+        for p in points:
+            if p["position"] != position:
+                continue
+            ax.scatter(p["mrays_per_s"], max(p["misses_per_million"], 0.1), s=60,
+                       color=colour(p["structure"]), marker=markers.get(p["variant"], "x"),
+                       label="%s, %s" % (label(p["structure"]), p["variant"]))
+        ax.set_yscale("log")
+        ax.set_xlabel("Mrays/s (1 thread)")
+        ax.set_title("sphere at %s" % ("the origin" if position == "origin" else
+                                       "(148376, 1234, -223423)"), fontsize=10)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("leaks per million rays from inside (0 drawn at 0.1)")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=8)
+    fig.suptitle("Speed against accuracy: %d rays per position" % points[0]["rays"])
+    path = os.path.join(out_dir, "speed_vs_accuracy.png")
+    save(fig, path)
+    return path
+
+
+def sweep(results, out_dir):
+    points = results["sweep"]["points"]
+    if not points:
+        return None
+    fig, ax = plt.subplots(figsize=(8, 6))
+    parameters = sorted({p["parameter"] for p in points})
+    cmap = plt.get_cmap("tab10")
+    for i, parameter in enumerate(parameters):
+        sel = [p for p in points if p["parameter"] == parameter]
+        ax.scatter([p["build_seconds"] for p in sel], [p["mrays_per_s"] for p in sel],
+                   s=[4 * p["total_bytes_per_triangle"] for p in sel], alpha=0.6,
+                   color="black" if parameter == "default" else cmap(i % 10), label=parameter)
+        for p in sel:
+            ax.annotate(p["value"] or "default", (p["build_seconds"], p["mrays_per_s"]),
+                        fontsize=7, xytext=(4, 2), textcoords="offset points")
+    ax.set_xlabel("build time (s, %d threads)" % results["sweep"]["threads"])
+    ax.set_ylabel("path workload (Mrays/s, %d threads)" % results["sweep"]["threads"])
+    ax.set_title("Split Grid parameter sweep on %s (marker area ~ bytes/triangle)"
+                 % results["sweep"]["scene"], fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    path = os.path.join(out_dir, "sweep_build_vs_trace.png")
+    save(fig, path)
+    return path
+
+
+def memory_scaling(results, out_dir):
+    points = results["scale"]["points"]
+    if not points:
+        return None
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 5))
+    for name in dict.fromkeys(p["structure"] for p in points):
+        sel = sorted((p for p in points if p["structure"] == name), key=lambda p: p["triangles"])
+        xs = [p["triangles"] for p in sel]
+        ax1.plot(xs, [p["total_bytes_per_triangle"] for p in sel], "o-", color=colour(name),
+                 label=label(name))
+        if name != "embree":
+            ax2.plot(xs, [p["references_per_triangle"] for p in sel], "o-", color=colour(name),
+                     label=label(name))
+    for ax, title in ((ax1, "structure + mesh (bytes/triangle)"),
+                      (ax2, "triangle references per triangle")):
+        ax.set_xscale("log")
+        ax.set_xlabel("triangles (%s, patches and arenas)" % results["scale"]["model"])
+        ax.set_title(title, fontsize=10)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    path = os.path.join(out_dir, "memory_scaling.png")
+    save(fig, path)
+    return path
+
+
+def main(argv):
+    if len(argv) != 3:
+        sys.stderr.write("usage: bench_charts.py RESULTS_JSON OUT_DIR\n")
+        return 1
+    try:
+        with open(argv[1]) as f:
+            results = json.load(f)
+    except (OSError, ValueError) as e:
+        sys.stderr.write("error: %s: %s\n" % (argv[1], e))
+        return 2
+    if results.get("schema_version") != 1 or results.get("tool") != "sg-bench":
+        sys.stderr.write("error: %s: not an sg-bench results file (schema_version 1)\n" % argv[1])
+        return 2
+    made = [p for p in (figure3(results, argv[2]), speed_vs_accuracy(results, argv[2]),
+                        sweep(results, argv[2]), memory_scaling(results, argv[2])) if p]
+    for p in made:
+        print("wrote %s" % p)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,185 @@
+// End-to-end tests of sg-bench: a quick run on a real model writes a results.json whose
+// figures match what is counted here independently (the imported mesh, the image size, the
+// structures asked for), a CSV with one row per scene, structure and workload, and PNG charts
+// that VTK can read; bad flags and inputs fail with one line and leave no output folder.
+// No timing is asserted: speed lives in the benchmark's own output.
+
+#include <algorithm>
+#include <cstddef>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "app_test_support.hpp"
+#include "splitgrid/formats/mesh_import.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#ifdef SG_RENDER_EXE
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
+#include <vtkImageData.h>
+#endif
+
+namespace sg::test {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// Small sizes so that the run also fits the sanitizer tree's CI budget.
+std::vector<std::string> quick_args(const fs::path& model, const fs::path& out)
+{
+    return {"--quick", "--width", "64", "--height", "48", "--incoherent-rays", "4000",
+            "--watertight-triangles", "2000", "--watertight-rays", "3000", "--sweep-rays", "3000",
+            "--scale-sizes", "300,3000", "--threads", "1,2", "-o", out.string(), model.string()};
+}
+
+TEST(SgBench, QuickRunWritesResultsThatMatchTheInputs)
+{
+    ScratchDir scratch;
+    const fs::path model = assimp_model("PLY/Wuson.ply");
+    const fs::path out = scratch / "bench";
+    const ToolRun run = run_tool(SG_BENCH_EXE, quick_args(model, out), scratch);
+    ASSERT_EQ(run.exit_code, 0) << describe(run);
+
+    const json j = json::parse(read_text(out / "results.json"));
+    EXPECT_EQ(j.at("schema_version"), 1);
+    EXPECT_EQ(j.at("tool"), "sg-bench");
+    EXPECT_EQ(j.at("plan").at("thread_counts"), json::array({1, 2}));
+    const std::size_t triangles = import_mesh(model).mesh.triangles.size();
+    ASSERT_EQ(j.at("scenes").size(), 1u);
+    const json& scene = j.at("scenes")[0];
+    EXPECT_EQ(scene.at("triangles"), triangles);
+    EXPECT_EQ(scene.at("scene"), "Wuson");
+
+    // Every structure this build has, each with the four workloads; the primary workload is
+    // one ray per pixel.
+    std::set<std::string> structures;
+    for (const json& s : scene.at("structures")) {
+        structures.insert(s.at("structure"));
+        ASSERT_EQ(s.at("workloads").size(), 4u);
+        EXPECT_EQ(s.at("workloads")[0].at("workload"), "primary");
+        EXPECT_EQ(s.at("workloads")[0].at("rays"), 64 * 48);
+        EXPECT_GT(s.at("total_bytes_per_triangle").get<double>(),
+                  s.at("structure_bytes_per_triangle").get<double>());
+        for (const json& w : s.at("workloads")) {
+            EXPECT_GT(w.at("mrays_per_s").at("1").get<double>(), 0.0);
+            EXPECT_GT(w.at("mrays_per_s").at("2").get<double>(), 0.0);
+            EXPECT_GT(w.at("oracle_rays").get<int>(), 0);
+            // Our structures share the watertight test: brute force must agree exactly.
+            if (s.at("structure") != "embree") {
+                EXPECT_EQ(w.at("oracle_disagreements"), 0) << s.at("structure") << " " << w.at("workload");
+                EXPECT_EQ(w.at("reference_disagreements"), 0) << s.at("structure") << " " << w.at("workload");
+            }
+        }
+    }
+    for (const char* name : {"splitgrid", "uniform_grid", "kd_tree", "bvh"})
+        EXPECT_TRUE(structures.count(name)) << name;
+#ifdef SG_BENCH_HAS_EMBREE
+    EXPECT_TRUE(structures.count("embree"));
+#endif
+
+    // Watertightness: our watertight variants never leak; two positions per variant.
+    std::size_t accuracy_rows = 0;
+    for (const json& a : j.at("accuracy")) {
+        ++accuracy_rows;
+        EXPECT_EQ(a.at("rays"), 3000);
+        if (a.at("variant") == "watertight") {
+            EXPECT_EQ(a.at("misses"), 0) << a.at("structure");
+        }
+    }
+    EXPECT_EQ(accuracy_rows, 2 * (4 * 4 + (structures.count("embree") ? 2 : 0)));
+    EXPECT_GT(j.at("sweep").at("points").size(), 10u);
+    for (const json& p : j.at("sweep").at("points")) EXPECT_EQ(p.at("disagreements"), 0) << p;
+    // The scale series: 300 (a patch of the model) and 3000 triangles per structure.
+    std::set<std::size_t> sizes;
+    for (const json& p : j.at("scale").at("points")) sizes.insert(p.at("triangles").get<std::size_t>());
+    EXPECT_EQ(sizes.size(), 2u);
+    EXPECT_EQ(*sizes.begin(), 300u);
+
+    // CSV: a header and one row per structure and workload.
+    const std::string csv = read_text(out / "results.csv");
+    EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')),
+              1 + 4 * structures.size());
+    EXPECT_EQ(csv.rfind("scene,triangles,structure,build_seconds_1t,build_seconds_2t,", 0), 0u);
+
+    for (const char* chart : {"figure3.png", "speed_vs_accuracy.png", "sweep_build_vs_trace.png",
+                              "memory_scaling.png"}) {
+        ASSERT_TRUE(fs::exists(out / chart)) << chart << "\n" << run.err;
+#ifdef SG_RENDER_EXE
+        vtkNew<vtkPNGReader> reader;
+        reader->SetFileName((out / chart).c_str());
+        reader->Update();
+        int dims[3];
+        reader->GetOutput()->GetDimensions(dims);
+        EXPECT_GT(dims[0], 300) << chart;
+        EXPECT_GT(dims[1], 200) << chart;
+#endif
+    }
+    // The table on stdout names every structure.
+    for (const std::string& s : structures) EXPECT_NE(run.out.find(s), std::string::npos) << s;
+}
+
+TEST(SgBench, BadFlagsAreUsageErrorsAndLeaveNothing)
+{
+    ScratchDir scratch;
+    const fs::path model = assimp_model("PLY/Wuson.ply");
+    const fs::path out = scratch / "bench";
+    const std::vector<std::vector<std::string>> cases = {
+        {"--structures", "splitgrid,octree", model.string(), "-o", out.string()},
+        {"--threads", "0", model.string(), "-o", out.string()},
+        {"--scale-sizes", "1e3,lots", model.string(), "-o", out.string()},
+        {"-o", out.string()},
+        {"--leaf-size", "0", model.string(), "-o", out.string()},
+    };
+    for (const auto& args : cases) {
+        const ToolRun run = run_tool(SG_BENCH_EXE, args, scratch);
+        EXPECT_EQ(run.exit_code, 1) << describe(run);
+        EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+        EXPECT_EQ(run.err.rfind("error: ", 0), 0u) << run.err;
+        EXPECT_FALSE(fs::exists(out));
+    }
+}
+
+TEST(SgBench, BadInputIsExitTwoAndLeavesNothing)
+{
+    ScratchDir scratch;
+    write_text(scratch / "garbage.obj", "this is not a mesh\n");
+    const fs::path out = scratch / "bench";
+    const fs::path missing_parent = scratch / "no" / "bench";
+    struct Case {
+        std::vector<std::string> args;
+        std::string named;  // the file the one error line starts with
+    };
+    const std::vector<Case> cases = {
+        {{(scratch / "missing.ply").string(), "-o", out.string()}, (scratch / "missing.ply").string()},
+        {{(scratch / "garbage.obj").string(), "-o", out.string()}, (scratch / "garbage.obj").string()},
+        {{assimp_model("PLY/Wuson.ply").string(), "-o", missing_parent.string()},
+         missing_parent.string()},
+    };
+    for (const Case& c : cases) {
+        const ToolRun run = run_tool(SG_BENCH_EXE, c.args, scratch);
+        EXPECT_EQ(run.exit_code, 2) << describe(run);
+        EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+        EXPECT_EQ(run.err.rfind("error: " + c.named + ": ", 0), 0u) << run.err;
+        EXPECT_FALSE(fs::exists(out));
+        EXPECT_FALSE(fs::exists(scratch / "no"));
+    }
+}
+
+TEST(SgBench, HelpExplainsWorkloadsOutputsAndExitCodes)
+{
+    ScratchDir scratch;
+    const ToolRun run = run_tool(SG_BENCH_EXE, {"--help"}, scratch);
+    ASSERT_EQ(run.exit_code, 0) << describe(run);
+    for (const char* text : {"--quick", "--out", "--structures", "--threads", "--scale-sizes",
+                             "--arena-sizes", "primary", "path", "incoherent", "shadow",
+                             "results.json", "results.csv", "--leaf-size", "Exit codes:"})
+        EXPECT_NE(run.out.find(text), std::string::npos) << text << " missing";
+}
+
+}  // namespace
+}  // namespace sg::test
