@@ -165,7 +165,8 @@ TEST(SgExport, OverTheLimitIsAUsageErrorThatSuggestsFlagsAndWritesNothing)
     ScratchDir scratch;
     const fs::path sg = build_duck(scratch);
     const std::vector<std::string> before = scratch.entries();
-    // The root node alone has at most 64 cells, its leaves and two planes: 200 fits depth 0.
+    // The root node alone has at most 16 cells (resolution_max), its leaves and two planes:
+    // 200 fits depth 0.
     const ToolRun run = run_tool(SG_EXPORT_EXE, {sg.string(), "-o", (scratch / "out").string(), "--limit", "200"}, scratch);
     EXPECT_EQ(run.exit_code, 1) << describe(run);
     expect_one_line_error(run, "more than the limit of 200");

@@ -22,8 +22,12 @@ struct BuildConfig {
     /// near the leaves binary splits, which the poster describes as "coarse splits".
     std::uint32_t resolution_min = 2;
     /// Most cells of an inner node. Range [max(2, resolution_min), 2^20]. Reached by nodes with
-    /// several resolution_sigma triangles; 64 keeps a node's cells within 512 bytes.
-    std::uint32_t resolution_max = 64;
+    /// several resolution_sigma triangles, i.e. the top levels. Wide top nodes make every ray
+    /// step through many empty cells: counted with callgrind on 20,000 random rays, 16 needs
+    /// 29% fewer instructions than 64 on the Stanford bunny, 38% on the Tachikoma, 50% on the
+    /// BMW M6, and 6% more on the full Stanford dragon (where 32 is best); it also makes 1-10%
+    /// fewer references (docs/BENCH.md has the sweep).
+    std::uint32_t resolution_max = 16;
     /// Width of the Gaussian, in triangles. Range (0, 1e9]. At n = sigma the resolution is
     /// 39% of the way from min to max, at n = 2 sigma 86%, at n = 3 sigma 99%.
     double resolution_sigma = 48.0;
