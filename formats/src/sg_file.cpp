@@ -39,8 +39,7 @@ detail::SgConfigRecord make_config_record(const SplitGrid& grid)
     r.triangle_count = grid.triangle_count;
     r.root_lower = {grid.root_box.lower.x, grid.root_box.lower.y, grid.root_box.lower.z};
     r.root_upper = {grid.root_box.upper.x, grid.root_box.upper.y, grid.root_box.upper.z};
-    r.root_index = grid.root.index();
-    r.root_count = grid.root.raw_count();
+    r.root_cell = grid.root.raw_bits();
     return r;
 }
 
@@ -132,7 +131,7 @@ std::vector<std::uint8_t> encode_sg(const SgContents& contents)
     }
     std::uint8_t* cell_out = section_start(SgSection::cells);
     for (const CellRef& cell : contents.grid.cells) {
-        const detail::SgCellRecord r{cell.index(), cell.raw_count()};
+        const detail::SgCellRecord r{cell.raw_bits()};
         std::memcpy(cell_out, &r, sizeof r);
         cell_out += sizeof r;
     }

@@ -1,6 +1,6 @@
 #pragma once
 
-// On-disk records of the .sg format, version 1. docs/FORMAT.md describes the same layout for
+// On-disk records of the .sg format, version 2. docs/FORMAT.md describes the same layout for
 // readers in other languages; keep the two in step.
 //
 // The file is little-endian. The writer and reader copy these records to and from the byte
@@ -40,11 +40,11 @@ inline constexpr std::uint64_t sg_section_alignment = 8;
 ///
 ///   offset  size  field
 ///        0     8  magic                  sg_magic
-///        8     4  format_version         sg_format_version (1)
+///        8     4  format_version         sg_format_version (2)
 ///       12     4  endian_marker          0x01020304
 ///       16     4  header_bytes           sizeof(SgHeader) = 80
 ///       20     4  section_entry_bytes    sizeof(SgSectionEntry) = 32
-///       24     4  section_count          7 in version 1
+///       24     4  section_count          7 in version 2
 ///       28     4  header_crc32           CRC-32 of the header (this field read as 0)
 ///                                        followed by the section table
 ///       32     8  file_bytes             size of the whole file
@@ -52,7 +52,7 @@ inline constexpr std::uint64_t sg_section_alignment = 8;
 ///       48     4  vertex_record_bytes    sizeof(Vec3f) = 12
 ///       52     4  triangle_record_bytes  sizeof(Triangle) = 12
 ///       56     4  node_record_bytes      sizeof(SgNodeRecord) = 16
-///       60     4  cell_record_bytes      sizeof(SgCellRecord) = 8
+///       60     4  cell_record_bytes      sizeof(SgCellRecord) = 4
 ///       64     4  triangle_ref_bytes     sizeof(TriangleRef) = 4
 ///       68     4  config_record_bytes    sizeof(SgConfigRecord) = 88
 ///       72     8  reserved               0
@@ -117,8 +117,8 @@ static_assert(sizeof(SgSectionEntry) == 32 && std::is_trivially_copyable_v<SgSec
 ///       48     4  uint32   triangle_count (SplitGrid::triangle_count)
 ///       52    12  3 x f32  root box lower corner x, y, z
 ///       64    12  3 x f32  root box upper corner x, y, z
-///       76     4  uint32   root cell index   (CellRef layout, see grid_node.hpp)
-///       80     4  uint32   root cell count
+///       76     4  uint32   root cell         (the CellRef word, see grid_node.hpp)
+///       80     4  uint32   reserved, 0
 ///       84     4  uint32   build_flags: bit 0 set = bounding_planes off, bit 1 set =
 ///                          clip_triangles off; other bits 0 (0 = both on, the defaults, so
 ///                          files written before these options existed read unchanged)
@@ -135,8 +135,8 @@ struct SgConfigRecord {
     std::uint32_t triangle_count;
     std::array<float, 3> root_lower;
     std::array<float, 3> root_upper;
-    std::uint32_t root_index;
-    std::uint32_t root_count;
+    std::uint32_t root_cell;
+    std::uint32_t reserved;
     std::uint32_t build_flags;
 };
 
@@ -151,7 +151,7 @@ static_assert(sizeof(SgConfigRecord) == 10 * 4 + 3 * 8 + 2 * 12 && sizeof(SgConf
               "Extend the record, docs/FORMAT.md and the format version");
 static_assert(offsetof(SgConfigRecord, stop_by_cost) == 40 &&
                   offsetof(SgConfigRecord, triangle_count) == 48 &&
-                  offsetof(SgConfigRecord, root_index) == 76 &&
+                  offsetof(SgConfigRecord, root_cell) == 76 &&
                   offsetof(SgConfigRecord, build_flags) == 84,
               "SgConfigRecord field offsets differ from docs/FORMAT.md");
 
@@ -167,25 +167,25 @@ struct SgNodeRecord {
 static_assert(sizeof(SgNodeRecord) == 2 * 4 + 2 * 4 && std::is_trivially_copyable_v<SgNodeRecord>,
               "SgNodeRecord must be 16 bytes without padding (grid_node.hpp layout)");
 
-/// One cell (8 bytes), the CellRef layout of grid_node.hpp: index, then count (0 = empty,
-/// 0xFFFFFFFF = inner, else a leaf's reference count).
+/// One cell (4 bytes), the CellRef word of grid_node.hpp: kind in bits 0-1 (0 empty, 1 leaf,
+/// 2 inner), index in bits 2-31. Version 1 stored 8 bytes (index, count).
 struct SgCellRecord {
-    std::uint32_t index;
-    std::uint32_t count;
+    std::uint32_t bits;
 };
-static_assert(sizeof(SgCellRecord) == 8 && std::is_trivially_copyable_v<SgCellRecord> &&
+static_assert(sizeof(SgCellRecord) == 4 && std::is_trivially_copyable_v<SgCellRecord> &&
                   std::has_unique_object_representations_v<SgCellRecord>,
-              "SgCellRecord must be 8 bytes without padding (grid_node.hpp layout)");
+              "SgCellRecord must be 4 bytes without padding (grid_node.hpp layout)");
 
 // Vertices, triangles and triangle references are stored as the core's own records.
 static_assert(sizeof(Vec3f) == 12 && std::is_trivially_copyable_v<Vec3f>,
               "Vec3f is stored as three float32");
 static_assert(sizeof(Triangle) == 12 && std::is_trivially_copyable_v<Triangle>,
               "Triangle is stored as three uint32");
-static_assert(sizeof(TriangleRef) == 4 && std::is_trivially_copyable_v<TriangleRef>,
-              "TriangleRef is stored as one uint32");
+static_assert(sizeof(TriangleRef) == 4 && std::is_trivially_copyable_v<TriangleRef> &&
+                  std::has_unique_object_representations_v<TriangleRef>,
+              "TriangleRef is stored as one uint32 (triangle id, bit 31 = last of its leaf)");
 
-/// The sections of a version-1 file, in file order.
+/// The sections of a version-2 file, in file order.
 enum class SgSection : std::size_t {
     config,
     name,

@@ -168,6 +168,10 @@ void SgReader::check_magic_and_version() const
         if (version == 0)
             fail_at("invalid format version", offsetof(detail::SgHeader, format_version),
                     std::to_string(sg_format_version), "0");
+        if (version < sg_format_version)
+            fail("format version " + std::to_string(version) +
+                 " is no longer read (its cells are 8 bytes, version 2's are 4): build the "
+                 "file again with sg-build");
     }
 }
 
@@ -331,6 +335,10 @@ SgContents SgReader::decode(const SgReadOptions& options) const
         fail_at("CONF stop_by_cost is not a boolean",
                 conf_at + offsetof(detail::SgConfigRecord, stop_by_cost), "0 or 1",
                 std::to_string(config.stop_by_cost));
+    if (config.reserved != 0)
+        fail_at("reserved CONF field is not zero",
+                conf_at + offsetof(detail::SgConfigRecord, reserved), "0",
+                std::to_string(config.reserved));
     if ((config.build_flags & ~detail::sg_known_build_flags) != 0)
         fail_at("CONF build_flags has unknown bits set",
                 conf_at + offsetof(detail::SgConfigRecord, build_flags), "bits 0-1 only",
@@ -349,7 +357,7 @@ SgContents SgReader::decode(const SgReadOptions& options) const
     contents.grid.triangle_count = config.triangle_count;
     contents.grid.root_box.lower = {config.root_lower[0], config.root_lower[1], config.root_lower[2]};
     contents.grid.root_box.upper = {config.root_upper[0], config.root_upper[1], config.root_upper[2]};
-    contents.grid.root = CellRef::from_raw(config.root_index, config.root_count);
+    contents.grid.root = CellRef::from_raw(config.root_cell);
 
     const std::span<const std::uint8_t> name = section_bytes(SgSection::name);
     contents.source_name.assign(name.begin(), name.end());
@@ -369,7 +377,7 @@ SgContents SgReader::decode(const SgReadOptions& options) const
     for (std::size_t at = 0; at < cell_records.size(); at += sizeof(detail::SgCellRecord)) {
         detail::SgCellRecord r{};
         std::memcpy(&r, cell_records.data() + at, sizeof r);
-        contents.grid.cells.push_back(CellRef::from_raw(r.index, r.count));
+        contents.grid.cells.push_back(CellRef::from_raw(r.bits));
     }
 
     try {

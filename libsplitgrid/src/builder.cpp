@@ -356,21 +356,22 @@ CellRef flatten(BuiltCell& cell, SplitGrid& grid)
     case CellKind::Empty:
         return CellRef::make_empty();
     case CellKind::Leaf: {
-        if (grid.triangle_refs.size() + cell.triangles.size() >= CellRef::inner_tag)
-            throw InputError("Split Grid too large: more than 2^32 - 2 triangle references");
+        if (grid.triangle_refs.size() + cell.triangles.size() > std::size_t{max_cell_index} + 1)
+            throw InputError("Split Grid too large: more than 2^30 triangle references");
         const auto first = static_cast<std::uint32_t>(grid.triangle_refs.size());
-        grid.triangle_refs.insert(grid.triangle_refs.end(), cell.triangles.begin(),
-                                  cell.triangles.end());
+        for (std::size_t k = 0; k < cell.triangles.size(); ++k)
+            grid.triangle_refs.push_back(
+                TriangleRef::make(cell.triangles[k], k + 1 == cell.triangles.size()));
         cell.triangles = {};
-        return CellRef::make_leaf(first, static_cast<std::uint32_t>(grid.triangle_refs.size() - first));
+        return CellRef::make_leaf(first);
     }
     case CellKind::Inner:
         break;
     }
     BuiltNode& node = *cell.node;
-    if (grid.nodes.size() >= CellRef::inner_tag ||
-        grid.cells.size() + node.cells.size() >= CellRef::inner_tag)
-        throw InputError("Split Grid too large: more than 2^32 - 2 nodes or cells");
+    if (grid.nodes.size() > max_cell_index ||
+        grid.cells.size() + node.cells.size() > std::size_t{0xFFFFFFFFu})
+        throw InputError("Split Grid too large: more than 2^30 nodes or 2^32 cells");
     const auto index = static_cast<std::uint32_t>(grid.nodes.size());
     const auto first_cell = static_cast<std::uint32_t>(grid.cells.size());
     grid.nodes.push_back(GridNode::make(node.axis, node.lo, node.hi,
@@ -398,8 +399,8 @@ SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
 {
     validate(config);
     check_mesh(mesh);
-    if (mesh.triangle_count() >= CellRef::inner_tag)
-        throw InputError("mesh has more than 2^32 - 2 triangles");
+    if (mesh.triangle_count() > std::size_t{max_referenced_triangle} + 1)
+        throw InputError("mesh has more than 2^31 - 1 triangles");
 
     SplitGrid grid;
     grid.config = config;

@@ -50,8 +50,8 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
     {
         std::vector<bool> seen(grid.triangle_count, false);
         for (TriangleRef r : grid.triangle_refs)
-            if (r < seen.size() && !seen[r]) {
-                seen[r] = true;
+            if (r.triangle() < seen.size() && !seen[r.triangle()]) {
+                seen[r.triangle()] = true;
                 ++s.referenced_triangles;
             }
     }
@@ -61,14 +61,14 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
         return root_area > 0.0 ? box.surface_area() / root_area : 0.0;
     };
     double leaf_depth_sum = 0.0;
-    std::uint64_t leaf_refs = 0;
+    std::uint64_t leaf_ref_total = 0;
     s.leaf_size_min = std::numeric_limits<std::uint32_t>::max();
     auto add_leaf = [&](const CellRef& cell, const Aabb& box, std::uint32_t depth) {
         ++s.leaf_cells;
-        const std::uint32_t size = cell.ref_count();
+        const auto size = static_cast<std::uint32_t>(leaf_refs(grid, cell).size());
         s.leaf_size_min = std::min(s.leaf_size_min, size);
         s.leaf_size_max = std::max(s.leaf_size_max, size);
-        leaf_refs += size;
+        leaf_ref_total += size;
         leaf_depth_sum += depth;
         bump(s.leaf_size_histogram, log2_bucket(size));
         s.sah_cost += probability(box) * model.triangle_cost * size;
@@ -121,7 +121,7 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
             s.mean_resolution_per_depth[d] /= static_cast<double>(s.nodes_per_depth[d]);
     if (s.leaf_cells > 0) {
         s.mean_leaf_depth = leaf_depth_sum / static_cast<double>(s.leaf_cells);
-        s.leaf_size_mean = static_cast<double>(leaf_refs) / static_cast<double>(s.leaf_cells);
+        s.leaf_size_mean = static_cast<double>(leaf_ref_total) / static_cast<double>(s.leaf_cells);
     } else {
         s.leaf_size_min = 0;
     }

@@ -19,26 +19,35 @@ namespace {
 
 std::string node_name(std::uint32_t node) { return "node " + std::to_string(node); }
 
-// Checks one cell record; returns the child node index for inner cells.
+// Checks one cell record. A leaf's references must lie in the array, end with a reference
+// marked last (the traversal reads up to it), and belong to no other leaf.
 void check_cell(const SplitGrid& grid, const CellRef& cell, const std::string& where,
-                std::uint64_t& refs_seen)
+                std::vector<bool>& ref_seen)
 {
-    if (cell.is_empty()) {
-        if (cell.index() != 0) fail(where + ": empty cell with non-zero index");
-        return;
-    }
+    if (!cell.has_valid_kind())
+        fail(where + ": cell word " + std::to_string(cell.raw_bits()) + " is not a valid cell");
+    if (cell.is_empty()) return;
     if (cell.is_inner()) {
         if (cell.child() >= grid.nodes.size())
             fail(where + ": child node " + std::to_string(cell.child()) + " out of range (" +
                  std::to_string(grid.nodes.size()) + " nodes)");
         return;
     }
-    const std::uint64_t end = std::uint64_t{cell.first_ref()} + cell.ref_count();
-    if (end > grid.triangle_refs.size())
-        fail(where + ": triangle references " + std::to_string(cell.first_ref()) + ".." +
-             std::to_string(end) + " out of range (" +
-             std::to_string(grid.triangle_refs.size()) + " references)");
-    refs_seen += cell.ref_count();
+    const std::size_t size = grid.triangle_refs.size();
+    std::size_t r = cell.first_ref();
+    if (r >= size)
+        fail(where + ": first triangle reference " + std::to_string(r) + " out of range (" +
+             std::to_string(size) + " references)");
+    for (;; ++r) {
+        if (r >= size)
+            fail(where + ": the references from " + std::to_string(cell.first_ref()) +
+                 " run past the end of the array without one marked last");
+        if (ref_seen[r])
+            fail(where + ": triangle reference " + std::to_string(r) +
+                 " also belongs to another leaf");
+        ref_seen[r] = true;
+        if (grid.triangle_refs[r].is_last()) break;
+    }
 }
 
 struct Pending {
@@ -52,9 +61,9 @@ struct Pending {
 void check_invariants(const SplitGrid& grid)
 {
     for (std::size_t r = 0; r < grid.triangle_refs.size(); ++r)
-        if (grid.triangle_refs[r] >= grid.triangle_count)
+        if (grid.triangle_refs[r].triangle() >= grid.triangle_count)
             fail("triangle reference " + std::to_string(r) + " names triangle " +
-                 std::to_string(grid.triangle_refs[r]) + " but there are " +
+                 std::to_string(grid.triangle_refs[r].triangle()) + " but there are " +
                  std::to_string(grid.triangle_count) + " triangles");
 
     if (grid.root.is_empty()) {
@@ -66,8 +75,8 @@ void check_invariants(const SplitGrid& grid)
         grid.root_box.is_empty())
         fail("root box is empty or not finite");
 
-    std::uint64_t refs_seen = 0;
-    check_cell(grid, grid.root, "root cell", refs_seen);
+    std::vector<bool> ref_seen(grid.triangle_refs.size(), false);
+    check_cell(grid, grid.root, "root cell", ref_seen);
     std::vector<bool> node_seen(grid.nodes.size(), false);
     std::uint64_t cells_owned = 0;
     std::vector<Pending> pending;
@@ -105,7 +114,7 @@ void check_invariants(const SplitGrid& grid)
         const CellMath cm(node.lo, node.hi, n);
         for (std::uint32_t i = 0; i < n; ++i) {
             const CellRef& cell = grid.cells[node.first_cell() + i];
-            check_cell(grid, cell, where + " cell " + std::to_string(i), refs_seen);
+            check_cell(grid, cell, where + " cell " + std::to_string(i), ref_seen);
             if (!cell.is_inner()) continue;
             pending.push_back({cell.child(), p.depth + 1, cm.cell_box(p.box, axis, i)});
         }
@@ -116,6 +125,7 @@ void check_invariants(const SplitGrid& grid)
     if (cells_owned != grid.cells.size())
         fail("nodes own " + std::to_string(cells_owned) + " cells but the grid has " +
              std::to_string(grid.cells.size()));
+    const auto refs_seen = static_cast<std::size_t>(std::count(ref_seen.begin(), ref_seen.end(), true));
     if (refs_seen != grid.triangle_refs.size())
         fail("leaves hold " + std::to_string(refs_seen) + " references but the grid has " +
              std::to_string(grid.triangle_refs.size()));
@@ -131,9 +141,9 @@ void check_triangle(const SplitGrid& grid, std::uint32_t tri, const Vec3d (&v)[3
     const std::string tri_name = "triangle " + std::to_string(tri);
     if (cell.is_empty()) fail(tri_name + " overlaps " + where + ", which is empty");
     if (cell.is_leaf()) {
-        const auto first = grid.triangle_refs.begin() + cell.first_ref();
-        const auto last = first + cell.ref_count();
-        if (std::find(first, last, tri) == last)
+        const auto refs = leaf_refs(grid, cell);
+        if (std::none_of(refs.begin(), refs.end(),
+                         [tri](TriangleRef r) { return r.triangle() == tri; }))
             fail(tri_name + " overlaps " + where + " but is not in its leaf");
         return;
     }

@@ -19,6 +19,8 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 
+#include "support/leaf_triangles.hpp"
+
 namespace sg::test {
 namespace {
 
@@ -28,8 +30,9 @@ using nlohmann::json;
 /// Number of references stored in the leaves of `grid`, counted from the cells themselves.
 std::size_t count_leaf_references(const SplitGrid& grid)
 {
-    std::size_t refs = grid.root.ref_count();
-    for (const CellRef& cell : grid.cells) refs += cell.ref_count();
+    std::size_t refs = grid.root.is_leaf() ? leaf_triangles(grid, grid.root).size() : 0;
+    for (const CellRef& cell : grid.cells)
+        if (cell.is_leaf()) refs += leaf_triangles(grid, cell).size();
     return refs;
 }
 

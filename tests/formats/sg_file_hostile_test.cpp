@@ -247,7 +247,7 @@ TEST_F(SgHostile, EveryFlippedByteWithoutChecksumsNeverCrashes)
 
 TEST_F(SgHostile, EveryHeaderByteChangeIsRefusedWithoutChecksums)
 {
-    // Every header byte but the CRC itself has exactly one valid value in version 1.
+    // Every header byte but the CRC itself has exactly one valid value in version 2.
     for (std::size_t i = 0; i < 80; ++i) {
         if (i >= 28 && i < 32) continue;
         std::vector<std::uint8_t> bad = bytes_;
@@ -260,11 +260,17 @@ TEST_F(SgHostile, EveryHeaderByteChangeIsRefusedWithoutChecksums)
 TEST_F(SgHostile, NewerVersionIsRefusedNamingTheVersion)
 {
     std::vector<std::uint8_t> newer = bytes_;
-    store_le<std::uint32_t>(newer, 8, 2);
-    EXPECT_EQ(refusal(newer, "new.sg"), "new.sg: format version 2 is newer than this reader's 1");
+    store_le<std::uint32_t>(newer, 8, 3);
+    EXPECT_EQ(refusal(newer, "new.sg"), "new.sg: format version 3 is newer than this reader's 2");
     store_le<std::uint32_t>(newer, 8, 4000000000u);
     EXPECT_EQ(refusal(newer, "new.sg"),
-              "new.sg: format version 4000000000 is newer than this reader's 1");
+              "new.sg: format version 4000000000 is newer than this reader's 2");
+    // Version 1 stored 8-byte cells: refused with a way out.
+    std::vector<std::uint8_t> older = bytes_;
+    store_le<std::uint32_t>(older, 8, 1);
+    EXPECT_EQ(refusal(older, "old.sg"),
+              "old.sg: format version 1 is no longer read (its cells are 8 bytes, version 2's "
+              "are 4): build the file again with sg-build");
 
     test::ScratchDir dir;
     store_le<std::uint32_t>(newer, 8, 7);
@@ -274,7 +280,7 @@ TEST_F(SgHostile, NewerVersionIsRefusedNamingTheVersion)
         FAIL() << "accepted";
     } catch (const FormatError& e) {
         EXPECT_EQ(std::string(e.what()),
-                  (dir / "v7.sg").string() + ": format version 7 is newer than this reader's 1");
+                  (dir / "v7.sg").string() + ": format version 7 is newer than this reader's 2");
     }
     EXPECT_THROW((void)read_sg_info(dir / "v7.sg"), FormatError);
 }
@@ -428,7 +434,9 @@ TEST_F(SgHostileIndex, NanVertexOfATriangle)
 
 TEST_F(SgHostileIndex, TriangleReferenceOutOfRange)
 {
-    (void)refusal_of([](SgContents& c) { c.grid.triangle_refs.back() = c.grid.triangle_count; });
+    (void)refusal_of([](SgContents& c) {
+        c.grid.triangle_refs.back() = TriangleRef::make(c.grid.triangle_count, true);
+    });
 }
 
 TEST_F(SgHostileIndex, ChildNodeOutOfRange)
@@ -459,8 +467,7 @@ TEST_F(SgHostileIndex, LeafRangePastTheReferenceArray)
     (void)refusal_of([](SgContents& c) {
         for (CellRef& cell : c.grid.cells)
             if (cell.is_leaf()) {
-                cell = CellRef::from_raw(static_cast<std::uint32_t>(c.grid.triangle_refs.size()) - 1,
-                                         0xFFFFFFF0u);
+                cell = CellRef::make_leaf(static_cast<std::uint32_t>(c.grid.triangle_refs.size()));
                 return;
             }
     });

@@ -162,7 +162,7 @@ TEST(SgFile, LayoutMatchesFormatDocument)
 
     const std::array<std::uint8_t, 8> magic{0x89, 'S', 'G', 'F', '\r', '\n', 0x1A, '\n'};
     EXPECT_TRUE(std::equal(magic.begin(), magic.end(), f.begin()));
-    EXPECT_EQ(load_le<std::uint32_t>(f, 8), 1u) << "format version";
+    EXPECT_EQ(load_le<std::uint32_t>(f, 8), 2u) << "format version";
     EXPECT_EQ((std::array<std::uint8_t, 4>{f[12], f[13], f[14], f[15]}),
               (std::array<std::uint8_t, 4>{0x04, 0x03, 0x02, 0x01}))
         << "endianness marker 0x01020304 stored little-endian";
@@ -174,7 +174,7 @@ TEST(SgFile, LayoutMatchesFormatDocument)
     EXPECT_EQ(load_le<std::uint32_t>(f, 48), 12u) << "Vec3f";
     EXPECT_EQ(load_le<std::uint32_t>(f, 52), 12u) << "Triangle";
     EXPECT_EQ(load_le<std::uint32_t>(f, 56), 16u) << "GridNode";
-    EXPECT_EQ(load_le<std::uint32_t>(f, 60), 8u) << "CellRef";
+    EXPECT_EQ(load_le<std::uint32_t>(f, 60), 4u) << "CellRef";
     EXPECT_EQ(load_le<std::uint32_t>(f, 64), 4u) << "TriangleRef";
     EXPECT_EQ(load_le<std::uint32_t>(f, 68), 88u) << "config record";
     EXPECT_EQ(load_le<std::uint64_t>(f, 72), 0u) << "reserved";
@@ -186,7 +186,7 @@ TEST(SgFile, LayoutMatchesFormatDocument)
               ::crc32(0, head.data(), static_cast<uInt>(head.size())));
 
     const std::array<const char*, 7> tags{"CONF", "NAME", "VERT", "TRIS", "NODE", "CELL", "TREF"};
-    const std::array<std::uint64_t, 7> record_bytes{88, 1, 12, 12, 16, 8, 4};
+    const std::array<std::uint64_t, 7> record_bytes{88, 1, 12, 12, 16, 4, 4};
     const std::array<std::uint64_t, 7> counts{1,
                                               c.source_name.size(),
                                               c.mesh.vertices.size(),
@@ -232,8 +232,9 @@ TEST(SgFile, LayoutMatchesFormatDocument)
     EXPECT_EQ(load_le<float>(f, conf + 60), c.grid.root_box.lower.z);
     EXPECT_EQ(load_le<float>(f, conf + 64), c.grid.root_box.upper.x);
     EXPECT_EQ(load_le<float>(f, conf + 72), c.grid.root_box.upper.z);
-    EXPECT_EQ(load_le<std::uint32_t>(f, conf + 76), c.grid.root.index());
-    EXPECT_EQ(load_le<std::uint32_t>(f, conf + 80), c.grid.root.raw_count());
+    EXPECT_EQ(load_le<std::uint32_t>(f, conf + 76) >> 2, c.grid.root.index());
+    EXPECT_EQ(load_le<std::uint32_t>(f, conf + 76) & 3u, 2u) << "the root is inner";
+    EXPECT_EQ(load_le<std::uint32_t>(f, conf + 80), 0u) << "reserved";
     EXPECT_EQ(load_le<std::uint32_t>(f, conf + 84), 3u) << "build_flags: both options off";
 
     // First records of the array sections, per grid_node.hpp's layouts.
@@ -253,10 +254,17 @@ TEST(SgFile, LayoutMatchesFormatDocument)
     EXPECT_EQ(load_le<std::uint32_t>(f, n + 12) & 3u, static_cast<std::uint32_t>(node.axis()));
     EXPECT_EQ(load_le<std::uint32_t>(f, n + 12) >> 2, node.resolution());
     const CellRef& cell = c.grid.cells.back();
-    const std::size_t k = section_offset(5) + 8 * (c.grid.cells.size() - 1);
-    EXPECT_EQ(load_le<std::uint32_t>(f, k + 0), cell.index());
-    EXPECT_EQ(load_le<std::uint32_t>(f, k + 4), cell.raw_count());
-    EXPECT_EQ(load_le<std::uint32_t>(f, section_offset(6) + 4 * 5), c.grid.triangle_refs[5]);
+    const std::size_t k = section_offset(5) + 4 * (c.grid.cells.size() - 1);
+    EXPECT_EQ(load_le<std::uint32_t>(f, k) >> 2, cell.index());
+    EXPECT_EQ(load_le<std::uint32_t>(f, k) & 3u,
+              cell.is_empty() ? 0u : (cell.is_leaf() ? 1u : 2u));
+    const TriangleRef ref = c.grid.triangle_refs[5];
+    EXPECT_EQ(load_le<std::uint32_t>(f, section_offset(6) + 4 * 5),
+              ref.triangle() | (ref.is_last() ? 0x80000000u : 0u));
+    // The last reference of the array ends a leaf.
+    EXPECT_NE(load_le<std::uint32_t>(f, section_offset(6) + 4 * (c.grid.triangle_refs.size() - 1)) &
+                  0x80000000u,
+              0u);
 }
 
 TEST(SgFile, InfoReadsTheHeaderAndTable)
@@ -265,7 +273,7 @@ TEST(SgFile, InfoReadsTheHeaderAndTable)
     const SgContents c = random_contents(9, 150);
     write_sg_file(dir / "x.sg", c);
     const SgFileInfo info = read_sg_info(dir / "x.sg");
-    EXPECT_EQ(info.format_version, 1u);
+    EXPECT_EQ(info.format_version, 2u);
     EXPECT_EQ(info.file_bytes, std::filesystem::file_size(dir / "x.sg"));
     ASSERT_EQ(info.sections.size(), 7u);
     EXPECT_EQ(info.sections[2].name, "VERT");
@@ -298,12 +306,12 @@ TEST(SgFile, StructureBytesPerTriangle)
     // mesh, the name, the header, the table, the config record and padding.
     const SgContents c = random_contents(4, 400);
     const std::size_t structure = c.grid.memory_bytes();
-    EXPECT_EQ(structure, 24 + 8 + 16 * c.grid.nodes.size() + 8 * c.grid.cells.size() +
+    EXPECT_EQ(structure, 24 + 4 + 16 * c.grid.nodes.size() + 4 * c.grid.cells.size() +
                              4 * c.grid.triangle_refs.size());
     const std::size_t file = encode_sg(c).size();
     std::size_t sections = 88 + c.source_name.size() + 12 * c.mesh.vertices.size() +
                            12 * c.mesh.triangles.size() + 16 * c.grid.nodes.size() +
-                           8 * c.grid.cells.size() + 4 * c.grid.triangle_refs.size();
+                           4 * c.grid.cells.size() + 4 * c.grid.triangle_refs.size();
     EXPECT_GE(file, 80 + 224 + sections);
     EXPECT_LE(file, 80 + 224 + sections + 7 * 7) << "at most 7 padding bytes per section";
 }

@@ -114,7 +114,7 @@ TEST(Builder, TrianglesAreReferencedOnlyWhereTheyReallyAre)
     const auto sliver = static_cast<std::uint32_t>(mesh.triangles.size() - 1);
     const SplitGrid grid = build_checked(mesh);
     std::size_t sliver_refs = 0;
-    for (TriangleRef r : grid.triangle_refs) sliver_refs += (r == sliver) ? 1 : 0;
+    for (TriangleRef r : grid.triangle_refs) sliver_refs += (r.triangle() == sliver) ? 1 : 0;
     const GridStats stats = compute_stats(grid);
     EXPECT_GT(sliver_refs, 0u);
     // Clipping keeps the sliver to the cells along the diagonal: far fewer than the leaves.
@@ -129,7 +129,7 @@ TEST(Builder, WithoutClippingTheSliverIsReferencedByItsBoundingBoxAndStillFound)
     const auto sliver = static_cast<std::uint32_t>(mesh.triangles.size() - 1);
     auto refs_of_sliver = [&](const SplitGrid& g) {
         std::size_t n = 0;
-        for (TriangleRef r : g.triangle_refs) n += (r == sliver) ? 1 : 0;
+        for (TriangleRef r : g.triangle_refs) n += (r.triangle() == sliver) ? 1 : 0;
         return n;
     };
     BuildConfig config;

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "splitgrid/builder.hpp"
+#include "support/leaf_triangles.hpp"
 #include "support/random_scene.hpp"
 
 namespace sg {
@@ -35,11 +36,12 @@ TEST(Stats, CountsMatchAnIndependentWalk)
             }
             if (c.is_leaf()) {
                 ++leaves;
-                refs += c.ref_count();
-                min_leaf = std::min(min_leaf, c.ref_count());
-                max_leaf = std::max(max_leaf, c.ref_count());
-                for (std::uint32_t r = 0; r < c.ref_count(); ++r)
-                    distinct.insert(grid.triangle_refs[c.first_ref() + r]);
+                const std::vector<std::uint32_t> ids = test::leaf_triangles(grid, c);
+                const auto size = static_cast<std::uint32_t>(ids.size());
+                refs += size;
+                min_leaf = std::min(min_leaf, size);
+                max_leaf = std::max(max_leaf, size);
+                distinct.insert(ids.begin(), ids.end());
             }
         }
     };
@@ -58,8 +60,8 @@ TEST(Stats, CountsMatchAnIndependentWalk)
     EXPECT_EQ(s.leaf_size_max, max_leaf);
     for (const auto& [depth, count] : per_depth) EXPECT_EQ(s.nodes_per_depth[depth], count);
     EXPECT_DOUBLE_EQ(s.duplication_factor, double(refs) / 8000.0);
-    EXPECT_EQ(s.structure_bytes, grid.nodes.size() * 16 + grid.cells.size() * 8 +
-                                     grid.triangle_refs.size() * 4 + 24 + 8);
+    EXPECT_EQ(s.structure_bytes, grid.nodes.size() * 16 + grid.cells.size() * 4 +
+                                     grid.triangle_refs.size() * 4 + 24 + 4);
     std::size_t hist_total = 0;
     for (std::size_t h : s.leaf_size_histogram) hist_total += h;
     EXPECT_EQ(hist_total, leaves);

@@ -20,7 +20,8 @@ void expect_refused(const SplitGrid& grid, const std::string& needle)
         check_invariants(grid);
         FAIL() << "accepted a grid that should fail with '" << needle << "'";
     } catch (const FormatError& e) {
-        EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(needle), std::string::npos)
+            << "expected '" << needle << "', got: " << e.what();
     }
 }
 
@@ -55,12 +56,36 @@ TEST(Validate, RefusesEachKindOfCorruption)
     expect_refused(g, "more than one cell");
 
     g = f.grid;
-    g.cells[leaf] = CellRef::from_raw(static_cast<std::uint32_t>(g.triangle_refs.size()), 5);
+    g.cells[leaf] = CellRef::make_leaf(static_cast<std::uint32_t>(g.triangle_refs.size()));
     expect_refused(g, "out of range");
 
     g = f.grid;
-    g.triangle_refs[7] = g.triangle_count;
+    g.triangle_refs[7] = TriangleRef::make(g.triangle_count, g.triangle_refs[7].is_last());
     expect_refused(g, "names triangle");
+
+    // Two leaves sharing one list of references.
+    g = f.grid;
+    const std::size_t other_leaf = [&] {
+        for (std::size_t c = leaf + 1; c < g.cells.size(); ++c)
+            if (g.cells[c].is_leaf()) return c;
+        return leaf;
+    }();
+    ASSERT_NE(other_leaf, leaf);
+    g.cells[other_leaf] = g.cells[leaf];
+    expect_refused(g, "also belongs to another leaf");
+
+    // The last reference lost its end mark: the list would run off the array.
+    g = f.grid;
+    g.triangle_refs.back() = TriangleRef::make(g.triangle_refs.back().triangle(), false);
+    expect_refused(g, "without one marked last");
+
+    // Words that are no cell at all: kind 3, or an empty kind with an index.
+    g = f.grid;
+    g.cells[leaf] = CellRef::from_raw(g.cells[leaf].raw_bits() | 3u);
+    expect_refused(g, "is not a valid cell");
+    g = f.grid;  // (the first leaf's index is 0, and a zero word is a valid empty cell)
+    g.cells[other_leaf] = CellRef::from_raw(g.cells[other_leaf].raw_bits() & ~3u);
+    expect_refused(g, "is not a valid cell");
 
     g = f.grid;
     g.nodes[1] = GridNode::from_raw(g.nodes[1].lo, g.nodes[1].hi, g.nodes[1].first_cell(),
@@ -95,14 +120,14 @@ TEST(Validate, RefusesTreesDeeperThanTheTraversalStack)
     g.root = CellRef::make_inner(0);
     for (std::uint32_t d = 0; d <= max_supported_depth + 1; ++d) {
         g.nodes.push_back(GridNode::make(0, 0.0f, 1.0f, 1, d));
-        g.cells.push_back(d == max_supported_depth + 1 ? CellRef::make_leaf(0, 1)
+        g.cells.push_back(d == max_supported_depth + 1 ? CellRef::make_leaf(0)
                                                        : CellRef::make_inner(d + 1));
     }
-    g.triangle_refs = {0};
+    g.triangle_refs = {TriangleRef::make(0, true)};
     expect_refused(g, "deeper than");
     g.nodes.resize(max_supported_depth + 1);
     g.cells.resize(max_supported_depth + 1);
-    g.cells.back() = CellRef::make_leaf(0, 1);
+    g.cells.back() = CellRef::make_leaf(0);
     EXPECT_NO_THROW(check_invariants(g));
 }
 
@@ -111,9 +136,10 @@ TEST(Validate, CoverageCatchesAMissingReference)
     Fixture f;
     // Remove one triangle from one leaf that holds several: coverage must notice.
     for (CellRef& cell : f.grid.cells) {
-        if (!cell.is_leaf() || cell.ref_count() < 2) continue;
-        const std::uint32_t dropped = f.grid.triangle_refs[cell.first_ref()];
-        f.grid.triangle_refs[cell.first_ref()] = f.grid.triangle_refs[cell.first_ref() + 1];
+        if (!cell.is_leaf() || f.grid.triangle_refs[cell.first_ref()].is_last()) continue;
+        const std::uint32_t dropped = f.grid.triangle_refs[cell.first_ref()].triangle();
+        f.grid.triangle_refs[cell.first_ref()] =
+            TriangleRef::make(f.grid.triangle_refs[cell.first_ref() + 1].triangle(), false);
         try {
             check_coverage(f.grid, f.mesh.view());
             FAIL() << "coverage accepted a leaf without triangle " << dropped;

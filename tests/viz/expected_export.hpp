@@ -12,6 +12,7 @@
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/split_grid.hpp"
 #include "splitgrid/stats.hpp"
+#include "support/leaf_triangles.hpp"
 
 namespace sg::test {
 
@@ -89,10 +90,10 @@ inline Totals walk_node(const SplitGrid& grid, std::uint32_t id, const Aabb& box
         c.axis = axis;
         if (cell.is_leaf()) {
             c.kind = 1;
-            c.triangles = cell.ref_count();
-            c.cost = c.box.surface_area() / root_area * cell.ref_count();
-            for (std::uint32_t k = 0; k < cell.ref_count(); ++k)
-                ++e.references_per_triangle.at(grid.triangle_refs.at(cell.first_ref() + k));
+            const std::vector<std::uint32_t> ids = test::leaf_triangles(grid, cell);
+            c.triangles = ids.size();
+            c.cost = c.box.surface_area() / root_area * static_cast<double>(ids.size());
+            for (const std::uint32_t t : ids) ++e.references_per_triangle.at(t);
         } else if (cell.is_inner()) {
             c.kind = 2;
             const Totals sub = walk_node(grid, cell.child(), c.box, depth + 1, id, e);
@@ -121,10 +122,11 @@ inline ExpectedExport expected_export(const SplitGrid& grid)
         ExpectedCell c;
         c.box = grid.root_box;
         c.kind = grid.root.is_leaf() ? 1 : 0;
-        c.triangles = grid.root.ref_count();
+        const std::vector<std::uint32_t> ids =
+            grid.root.is_leaf() ? test::leaf_triangles(grid, grid.root) : std::vector<std::uint32_t>{};
+        c.triangles = ids.size();
         c.cost = static_cast<double>(c.triangles);
-        for (std::uint32_t k = 0; k < grid.root.ref_count(); ++k)
-            ++e.references_per_triangle.at(grid.triangle_refs.at(grid.root.first_ref() + k));
+        for (const std::uint32_t t : ids) ++e.references_per_triangle.at(t);
         e.cells[{-1, 0}] = c;
         e.total_cost = c.cost;
     }

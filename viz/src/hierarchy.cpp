@@ -11,19 +11,20 @@ double cell_cost(const Hierarchy& hierarchy, const CellRef& cell, const Aabb& ce
     if (cell.is_inner()) return hierarchy.nodes[cell.child()].subtree_cost;
     if (cell.is_leaf() && hierarchy.root_area > 0.0)
         return cell_box.surface_area() / hierarchy.root_area * hierarchy.model.triangle_cost *
-               cell.ref_count();
+               static_cast<double>(leaf_refs(*hierarchy.grid, cell).size());
     return 0.0;
 }
 
 std::uint64_t cell_references(const Hierarchy& hierarchy, const CellRef& cell) noexcept
 {
     if (cell.is_inner()) return hierarchy.nodes[cell.child()].subtree_references;
-    return cell.ref_count();
+    return cell.is_leaf() ? leaf_refs(*hierarchy.grid, cell).size() : 0;
 }
 
 Hierarchy analyse_hierarchy(const SplitGrid& grid, const CostModel& model)
 {
     Hierarchy h;
+    h.grid = &grid;
     h.model = model;
     h.nodes.resize(grid.nodes.size());
     h.root_area = grid.root_box.surface_area();

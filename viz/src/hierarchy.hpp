@@ -25,6 +25,7 @@ struct NodeFacts {
 /// Per-node facts and the total expected cost (equal to compute_stats(grid).sah_cost up to
 /// the order of the floating-point sums).
 struct Hierarchy {
+    const SplitGrid* grid = nullptr;  ///< the grid analysed, which must outlive this
     std::vector<NodeFacts> nodes;  ///< indexed like SplitGrid::nodes
     double total_cost = 0.0;
     CostModel model;

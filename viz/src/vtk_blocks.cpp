@@ -230,9 +230,10 @@ vtkSmartPointer<vtkPolyData> make_mesh_block(const SplitGrid& grid, const MeshVi
 
     auto reference_count = named_array<vtkTypeInt64Array>("reference_count", triangles);
     reference_count->FillValue(0);
-    for (const TriangleRef r : grid.triangle_refs)
-        if (static_cast<vtkIdType>(r) < triangles)
-            reference_count->SetValue(r, reference_count->GetValue(r) + 1);
+    for (const TriangleRef r : grid.triangle_refs) {
+        const vtkIdType t = r.triangle();
+        if (t < triangles) reference_count->SetValue(t, reference_count->GetValue(t) + 1);
+    }
 
     auto block = vtkSmartPointer<vtkPolyData>::New();
     block->SetPoints(points);

@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "splitgrid/aabb.hpp"
@@ -17,7 +18,7 @@ namespace sg {
 /// builder.hpp). `root` is the cell that covers the root box: empty for an empty mesh, a
 /// leaf for a mesh too small to split, otherwise inner with child node 0.
 /// Nodes are in depth-first pre-order; each node's cells are contiguous in `cells`, and each
-/// leaf's references contiguous in `triangle_refs`.
+/// leaf's references contiguous in `triangle_refs`, the last one marked (TriangleRef).
 struct SplitGrid {
     Aabb root_box;
     CellRef root;
@@ -39,5 +40,17 @@ struct SplitGrid {
 
     friend bool operator==(const SplitGrid&, const SplitGrid&) = default;
 };
+
+/// The references of a leaf cell: from its first one to the first with the last bit set.
+/// Precondition: `leaf` is a leaf of `grid` and check_invariants(grid) passes. Cost: linear
+/// in the leaf's size.
+[[nodiscard]] inline std::span<const TriangleRef> leaf_refs(const SplitGrid& grid,
+                                                          CellRef leaf) noexcept
+{
+    const TriangleRef* const first = grid.triangle_refs.data() + leaf.first_ref();
+    const TriangleRef* last = first;
+    while (!last->is_last()) ++last;
+    return {first, static_cast<std::size_t>(last - first) + 1};
+}
 
 }  // namespace sg

@@ -234,23 +234,22 @@ private:
 
     bool test_leaf(CellRef cell) noexcept
     {
-        const std::uint32_t first = cell.first_ref();
-        const std::uint32_t end = first + cell.ref_count();
         bool hit_here = false;
-        for (std::uint32_t r = first; r < end; ++r) {
-            const std::uint32_t tri = grid_.triangle_refs[r];
+        for (const TriangleRef* ref = grid_.triangle_refs.data() + cell.first_ref();; ++ref) {
+            const TriangleRef r = *ref;
+            const std::uint32_t tri = r.triangle();
             count_triangle(counters_);
             float t, u, v;
-            if (!ray_.test(mesh_.vertex(tri, 0), mesh_.vertex(tri, 1), mesh_.vertex(tri, 2),
-                           ray_.t_min, best_t_, t, u, v))
-                continue;
-            if (found_ && !(t < best_t_)) continue;  // on equal t the first found stays
-            found_ = hit_here = true;
-            best_t_ = t;
-            hit_ = Hit{t, tri, u, v};
-            if constexpr (any_hit) return true;
+            if (ray_.test(mesh_.vertex(tri, 0), mesh_.vertex(tri, 1), mesh_.vertex(tri, 2),
+                          ray_.t_min, best_t_, t, u, v) &&
+                !(found_ && !(t < best_t_))) {  // on equal t the first found stays
+                found_ = hit_here = true;
+                best_t_ = t;
+                hit_ = Hit{t, tri, u, v};
+                if constexpr (any_hit) return true;
+            }
+            if (r.is_last()) return hit_here;
         }
-        return hit_here;
     }
 
     const SplitGrid& grid_;
