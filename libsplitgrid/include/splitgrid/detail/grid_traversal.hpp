@@ -95,9 +95,10 @@ struct PreparedRay {
 
 // A node whose cells are being walked, kept on the stack while a child is visited.
 struct GridCursor {
-    CellMath cells;          // the node's cell mapping (its width computed once)
-    std::uint32_t node;
-    std::int32_t next_cell;  // next cell to visit, in ray order; -1 or N when done
+    CellMath cells;            // the node's cell mapping (its width computed once)
+    std::uint32_t first_cell;  // the node's cell 0 in SplitGrid::cells
+    int axis;
+    std::int32_t next_cell;    // next cell to visit, in ray order; -1 or N when done
     float t0;                // the ray's interval inside the node's slab
     float t1;
     float next_enter;        // widened crossing into next_cell (the last cell's exit)
@@ -148,9 +149,8 @@ public:
 
         while (sp_ > 0) {
             GridCursor& cur = stack_[sp_ - 1];
-            const GridNode& node = grid_.nodes[cur.node];
             const std::uint32_t n = cur.cells.n;
-            const int axis = node.axis();
+            const int axis = cur.axis;
             if (cur.next_cell < 0 || cur.next_cell >= static_cast<std::int32_t>(n)) {
                 --sp_;
                 continue;
@@ -178,7 +178,7 @@ public:
                 cur.next_cell += forward ? 1 : -1;
             }
             count_cell(counters_);
-            const CellRef cell = grid_.cells[node.first_cell() + i];
+            const CellRef cell = grid_.cells[cur.first_cell + i];
             if (cell.is_empty() || c0 > c1) continue;
             if (cell.is_leaf()) {
                 if (test_leaf(cell) && any_hit) return true;
@@ -229,7 +229,8 @@ private:
             const bool forward = ray_.inv_dir[static_cast<std::size_t>(axis)] > 0.0f;
             enter = grid_widen_down<padding>(ray_.crossing(axis, cm.boundary(forward ? i : i + 1)));
         }
-        stack_[sp_++] = GridCursor{cm, index, static_cast<std::int32_t>(i), t0, t1, enter};
+        stack_[sp_++] =
+            GridCursor{cm, node.first_cell(), axis, static_cast<std::int32_t>(i), t0, t1, enter};
     }
 
     bool test_leaf(CellRef cell) noexcept
