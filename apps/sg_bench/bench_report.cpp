@@ -96,7 +96,11 @@ Json results_json(const BenchResults& results, const BenchPlan& plan, const RunI
                               {"mrays_per_s", by_threads(w.mrays_per_s, plan)},
                               {"oracle_rays", w.oracle_rays},
                               {"oracle_disagreements", w.oracle_disagreements},
-                              {"reference_disagreements", w.reference_disagreements}});
+                              {"reference_disagreements", w.reference_disagreements},
+                              {"counted", w.counted},
+                              {"nodes_per_ray", w.nodes_per_ray},
+                              {"cells_per_ray", w.cells_per_ray},
+                              {"triangles_per_ray", w.triangles_per_ray}});
             st["workloads"] = wl;
             structures.push_back(st);
         }

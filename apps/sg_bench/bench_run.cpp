@@ -132,6 +132,30 @@ std::size_t oracle_disagreements(const OracleSample& o, const Answers& a, bool a
     return n;
 }
 
+// Mean traversal work per ray on the oracle sample (the same rays for every structure).
+void count_work(const BenchStructure& s, const Workload& w, const OracleSample& o,
+                WorkloadResult& wr)
+{
+    std::vector<Ray> sample;
+    for (std::size_t i : o.indices) sample.push_back(w.rays[i]);
+    std::uint64_t nodes = 0, cells = 0, triangles = 0;
+    // Counters are 32-bit per query: summed per chunk into 64-bit totals.
+    for (std::size_t k = 0; k < sample.size(); k += 256) {
+        TraversalCounters c;
+        const std::span<const Ray> part(sample.data() + k, std::min<std::size_t>(256, sample.size() - k));
+        if (!s.count_work(part, w.any_hit, c)) return;
+        nodes += c.nodes_visited;
+        cells += c.cells_visited;
+        triangles += c.triangles_tested;
+    }
+    if (sample.empty()) return;
+    const auto n = static_cast<double>(sample.size());
+    wr.counted = true;
+    wr.nodes_per_ray = static_cast<double>(nodes) / n;
+    wr.cells_per_ray = static_cast<double>(cells) / n;
+    wr.triangles_per_ray = static_cast<double>(triangles) / n;
+}
+
 std::size_t mesh_bytes(const MeshView& mesh)
 {
     return mesh.vertices.size() * sizeof(Vec3f) + mesh.triangles.size() * sizeof(Triangle);
@@ -211,6 +235,7 @@ public:
                 }
                 wr.hit_fraction = hit_fraction(answers, w.any_hit);
                 wr.oracle_rays = oracles[wi].indices.size();
+                count_work(*built, w, oracles[wi], wr);
                 wr.oracle_disagreements = oracle_disagreements(oracles[wi], answers, w.any_hit, exact);
                 if (name == plan_.structures.front()) reference_answers[wi] = std::move(answers);
                 else

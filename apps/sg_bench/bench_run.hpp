@@ -52,6 +52,12 @@ struct WorkloadResult {
     std::size_t oracle_rays = 0;        ///< brute-force sample size
     std::size_t oracle_disagreements = 0;
     std::size_t reference_disagreements = 0;  ///< against the first structure, on all rays
+    /// Mean work per ray over the oracle sample (TraversalCounters; what each structure calls
+    /// a node and a cell is in its header); all 0 for Embree, which does not count.
+    bool counted = false;
+    double nodes_per_ray = 0.0;
+    double cells_per_ray = 0.0;
+    double triangles_per_ray = 0.0;
 };
 
 /// One structure on one scene.

@@ -15,6 +15,13 @@ double seconds_since(std::chrono::steady_clock::time_point start)
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+void add(TraversalCounters& sum, const TraversalCounters& c)
+{
+    sum.nodes_visited += c.nodes_visited;
+    sum.cells_visited += c.cells_visited;
+    sum.triangles_tested += c.triangles_tested;
+}
+
 // Calls f.template operator()<Test, padding>() for the variant's policies, so that each
 // variant's per-ray loop is compiled with its test and padding inlined.
 template <class F>
@@ -56,6 +63,16 @@ public:
         for (std::size_t k = 0; k < rays.size(); ++k)
             out[k] = sg::occluded(grid_, mesh_, rays[k]) ? 1 : 0;
     }
+    bool count_work(std::span<const Ray> rays, bool any_hit, TraversalCounters& sum) const override
+    {
+        for (const Ray& r : rays) {
+            TraversalCounters c;
+            if (any_hit) (void)sg::occluded(grid_, mesh_, r, &c);
+            else (void)sg::intersect(grid_, mesh_, r, &c);
+            add(sum, c);
+        }
+        return true;
+    }
 
 private:
     MeshView mesh_;
@@ -91,6 +108,16 @@ public:
     {
         for (std::size_t k = 0; k < rays.size(); ++k)
             out[k] = structure_.occluded(mesh_, rays[k]) ? 1 : 0;
+    }
+    bool count_work(std::span<const Ray> rays, bool any_hit, TraversalCounters& sum) const override
+    {
+        for (const Ray& r : rays) {
+            TraversalCounters c;
+            if (any_hit) (void)structure_.occluded(mesh_, r, &c);
+            else (void)structure_.intersect(mesh_, r, &c);
+            add(sum, c);
+        }
+        return true;
     }
 
 private:

@@ -14,6 +14,7 @@
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/query_policy.hpp"
 #include "splitgrid/ray.hpp"
+#include "splitgrid/traversal_counters.hpp"
 
 /// The one interface sg-bench measures every acceleration structure through: build on a mesh
 /// with a thread count, report memory, trace batches of rays. Batches, not single rays, cross
@@ -57,6 +58,15 @@ public:
                            const QueryVariant& variant) const = 0;
     /// Any-hit answers (1 = occluded) of `rays` into `occluded` (same size).
     virtual void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const = 0;
+    /// Adds the traversal work of each ray's query (closest hit, or any hit) to `sum`; false
+    /// if the structure does not count its work (Embree).
+    virtual bool count_work(std::span<const Ray> rays, bool any_hit, TraversalCounters& sum) const
+    {
+        (void)rays;
+        (void)any_hit;
+        (void)sum;
+        return false;
+    }
 };
 
 /// Parameters of every structure sg-bench can build; each keeps its library defaults

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# The documented full run of sg-bench (docs/BENCH.md): every mesh of ../shared/meshes (but
+# tricky/, which Assimp misreads), arena scenes of 2.5 and 10 million triangles made from the
+# Stanford dragon, and the memory series from 10^3 to 10^7 triangles; then the charts and
+# docs/RESULTS.md with its images in docs/images/bench_*.png.
+#
+# Usage: scripts/bench.sh [--quick] [more sg-bench flags]
+#   SG_BENCH_OUT   output folder (default build/bench-full, or build/bench-quick with --quick)
+#   SG_MESHES      the meshes folder (default ../shared/meshes beside the clone)
+# With --quick the same pipeline runs on small workloads and small scenes in a few minutes,
+# and the report goes to the output folder instead of docs/ (quick figures are no results).
+# Builds the project first if needed (scripts/setup.sh). Run it on an otherwise idle machine:
+# every figure is a wall-clock time.
+set -euo pipefail
+
+root_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+meshes="${SG_MESHES:-${root_dir}/../shared/meshes}"
+quick=false
+for arg in "$@"; do
+    if [[ "${arg}" == "--quick" ]]; then quick=true; fi
+done
+if [[ ! -d "${meshes}" ]]; then
+    echo "bench.sh: ${meshes} not found (set SG_MESHES to the folder of benchmark meshes)" >&2
+    exit 2
+fi
+if [[ ! -x "${root_dir}/build/apps/sg-bench" ]]; then
+    bash "${root_dir}/scripts/setup.sh"
+fi
+
+scenes=(
+    scanned/stanford_dragon_vrip.ply
+    scanned/stanford_dragon_vrip_res2.ply
+    scanned/stanford_dragon_vrip_res4.ply
+    scanned/igea_triangles.ply
+    scanned/nefertiti.obj
+    scanned/stanford_bunny.obj
+    scanned/lionstatue.obj
+    scanned/bunny_npm.obj
+    scenes/bmw_m6.ply
+    scenes/crytek_sponza_columns_shrubbery_part.obj
+    scenes/mountain.obj
+    models/tachikoma.obj
+    models/teapot.obj
+    gltf/balloon/scene.gltf
+    gltf/smallpine/scene.gltf
+)
+args=()
+if [[ "${quick}" == true ]]; then
+    out="${SG_BENCH_OUT:-${root_dir}/build/bench-quick}"
+    scenes=(scanned/stanford_dragon_vrip_res2.ply scanned/bunny_npm.obj models/teapot.obj)
+    args+=(--arena-sizes 1e6 --scale-sizes 1e3,1e4,1e5,1e6)
+else
+    out="${SG_BENCH_OUT:-${root_dir}/build/bench-full}"
+    args+=(--arena-sizes 2.5e6,1e7 --scale-sizes 1e3,1e4,1e5,1e6,1e7)
+fi
+paths=()
+for s in "${scenes[@]}"; do paths+=("${meshes}/${s}"); done
+
+# The sweep runs on the first scene; the scale series and the arenas use the dragon.
+"${root_dir}/build/apps/sg-bench" -o "${out}" \
+    --scale-model "${meshes}/scanned/stanford_dragon_vrip.ply" "${args[@]}" "$@" "${paths[@]}"
+
+if [[ "${quick}" == true ]]; then
+    /usr/bin/python3 "${root_dir}/scripts/bench_report.py" "${out}/results.json" "${out}" "" \
+        > "${out}/RESULTS.md"
+    echo "bench.sh: report in ${out}/RESULTS.md"
+else
+    for chart in figure3 speed_vs_accuracy sweep_build_vs_trace memory_scaling; do
+        if [[ -f "${out}/${chart}.png" ]]; then
+            cp "${out}/${chart}.png" "${root_dir}/docs/images/bench_${chart}.png"
+        fi
+    done
+    /usr/bin/python3 "${root_dir}/scripts/bench_report.py" "${out}/results.json" "${out}" \
+        "images/bench_" > "${root_dir}/docs/RESULTS.md.tmp"
+    mv "${root_dir}/docs/RESULTS.md.tmp" "${root_dir}/docs/RESULTS.md"
+    echo "bench.sh: report in docs/RESULTS.md, charts in docs/images/bench_*.png"
+fi
