@@ -13,7 +13,8 @@ namespace sg {
 /// grid was built for). Returns the smallest t found by the watertight test; on equal t the
 /// triangle found first wins. Invalid rays (see is_valid) return no hit.
 /// Cost: the cells the ray crosses up to the hit, front to back; no recursion, a fixed
-/// stack of max_supported_depth + 1 entries.
+/// stack of max_supported_depth + 1 entries; a mailbox of the last 8 triangles tested skips
+/// a triangle met again in a neighbouring cell (its answer cannot change).
 [[nodiscard]] Hit intersect(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
                             TraversalCounters* counters = nullptr) noexcept;
 

@@ -239,6 +239,10 @@ private:
         for (const TriangleRef* ref = grid_.triangle_refs.data() + cell.first_ref();; ++ref) {
             const TriangleRef r = *ref;
             const std::uint32_t tri = r.triangle();
+            if (seen(tri)) {
+                if (r.is_last()) return hit_here;
+                continue;
+            }
             count_triangle(counters_);
             float t, u, v;
             if (ray_.test(mesh_.vertex(tri, 0), mesh_.vertex(tri, 1), mesh_.vertex(tri, 2),
@@ -253,9 +257,24 @@ private:
         }
     }
 
+    // Mailbox (Amanatides and Woo 1987): the last triangles tested. A triangle referenced by
+    // neighbouring cells is tested once while the ray walks through them.
+    bool seen(std::uint32_t tri) noexcept
+    {
+        for (std::uint32_t id : mailbox_)
+            if (id == tri) return true;
+        mailbox_[mailbox_next_] = tri;
+        mailbox_next_ = (mailbox_next_ + 1) % mailbox_.size();
+        return false;
+    }
+
     const SplitGrid& grid_;
     const MeshView& mesh_;
     const PreparedRay<Test> ray_;
+    std::array<std::uint32_t, 8> mailbox_{invalid_triangle, invalid_triangle, invalid_triangle,
+                                          invalid_triangle, invalid_triangle, invalid_triangle,
+                                          invalid_triangle, invalid_triangle};
+    std::size_t mailbox_next_ = 0;
     TraversalCounters* counters_;
     float best_t_;
     bool found_ = false;
