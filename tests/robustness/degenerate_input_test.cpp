@@ -86,19 +86,6 @@ std::vector<Scene> degenerate_scenes()
     return scenes;
 }
 
-// The settings that split hardest: leaf size 1, the deepest trees, no cost test, no cell-width
-// cap, and a no-progress fraction of 1.
-BuildConfig hardest_splitting()
-{
-    BuildConfig c;
-    c.leaf_size = 1;
-    c.max_depth = max_supported_depth;
-    c.no_progress_fraction = 1.0;
-    c.stop_by_cost = false;
-    c.min_cell_width = 0.0;
-    return c;
-}
-
 // About 2,500 rays, fewer for the 100,000 copies (brute force tests every copy).
 std::vector<Ray> probe_rays(const Mesh& mesh, std::uint32_t seed)
 {

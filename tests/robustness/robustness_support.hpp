@@ -2,7 +2,8 @@
 
 // Shared pieces of the robustness suite (docs/ROBUSTNESS.md): the size switch, parallel loops
 // over rays, the brute-force comparison run in parallel, rays whose line passes exactly through
-// a chosen point, the boxes of a grid's nodes, and the per-ray work bound of the traversal.
+// a chosen point, the boxes of a grid's nodes, the per-ray work bound of the traversal, and
+// the build settings that split hardest.
 // Header-only because tests/CMakeLists.txt compiles only tests/robustness/*_test.cpp.
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include "splitgrid/build_config.hpp"
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/split_grid.hpp"
 #include "splitgrid/traverse.hpp"
@@ -107,6 +109,19 @@ inline std::optional<Ray> ray_through(Vec3f origin, Vec3f target)
     }
     if (ray.direction == Vec3f{}) return std::nullopt;
     return ray;
+}
+
+/// The build settings that split hardest: leaf size 1, the deepest trees, no cost test, no
+/// cell-width cap, and a no-progress fraction of 1.
+inline BuildConfig hardest_splitting()
+{
+    BuildConfig c;
+    c.leaf_size = 1;
+    c.max_depth = max_supported_depth;
+    c.no_progress_fraction = 1.0;
+    c.stop_by_cost = false;
+    c.min_cell_width = 0.0;
+    return c;
 }
 
 /// A node of a grid with the box it covers (not stored in the grid: the root box narrowed
