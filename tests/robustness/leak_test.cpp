@@ -19,6 +19,9 @@ struct Position {
     Vec3f center;
 };
 
+// Names the parameter in test listings (ctest shows it) instead of dumping its bytes.
+void PrintTo(const Position& p, std::ostream* out) { *out << p.name; }
+
 class Leak : public ::testing::TestWithParam<Position> {};
 
 TEST_P(Leak, NoRayFromInsideTheClosedSphereEscapes)
