@@ -30,7 +30,7 @@ packages=(
     cmake ninja-build g++
     libcli11-dev libspdlog-dev nlohmann-json3-dev
     libassimp-dev assimp-utils assimp-testmodels zlib1g-dev
-    libtbb-dev libgtest-dev
+    libtbb-dev libgtest-dev libboost-dev
     libembree-dev libvtk9-dev
     python3-matplotlib
     clang-14 libclang-rt-14-dev  # libFuzzer for tests/fuzz (scripts/test.sh)

@@ -1,11 +1,52 @@
 #include "splitgrid/mesh.hpp"
 
+#include <algorithm>
+#include <array>
 #include <string>
 
 #include "splitgrid/error.hpp"
 #include "splitgrid/ray.hpp"
 
 namespace sg {
+namespace {
+
+// Whether six doubles sum to exactly zero. Two-Sum and Grow-Expansion (Shewchuk, "Adaptive
+// Precision Floating-Point Arithmetic and Fast Robust Geometric Predicates", 1997) keep the
+// running sum as a nonoverlapping expansion without any rounding; such an expansion is zero
+// only if all its parts are. Needs round-to-nearest and no FMA contraction (sg_options).
+bool sums_to_zero(const std::array<double, 6>& terms) noexcept
+{
+    std::array<double, 6> parts{};
+    std::size_t n = 0;
+    for (const double term : terms) {
+        double q = term;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double sum = q + parts[i];
+            const double b_virtual = sum - q;
+            parts[i] = (q - (sum - b_virtual)) + (parts[i] - b_virtual);
+            q = sum;
+        }
+        parts[n++] = q;
+    }
+    return std::all_of(parts.begin(), parts.end(), [](double p) { return p == 0.0; });
+}
+
+// Whether the corners are collinear (or coincide), decided exactly: (b - a) x (c - a) equals
+// a x b + b x c + c x a, whose components are sums of six products of two floats, and each
+// such product is exact in double (48 significant bits, exponents within double's range).
+bool is_degenerate(Vec3f a, Vec3f b, Vec3f c) noexcept
+{
+    for (int k = 0; k < 3; ++k) {
+        const int i = (k + 1) % 3, j = (k + 2) % 3;
+        auto p = [](float x, float y) { return double(x) * double(y); };
+        if (!sums_to_zero({p(a[i], b[j]), -p(a[j], b[i]), p(b[i], c[j]), -p(b[j], c[i]),
+                           p(c[i], a[j]), -p(c[j], a[i])}))
+            return false;
+    }
+    return true;
+}
+
+}  // namespace
 
 bool is_valid(const Ray& ray) noexcept
 {
@@ -58,14 +99,9 @@ CleanReport clean_mesh(Mesh& mesh)
             ++report.nonfinite_triangles;
             continue;
         }
-        // Edge vectors and their cross product in double: exact enough that only truly
-        // collinear corners give zero.
-        const double e1x = double(b.x) - a.x, e1y = double(b.y) - a.y, e1z = double(b.z) - a.z;
-        const double e2x = double(c.x) - a.x, e2y = double(c.y) - a.y, e2z = double(c.z) - a.z;
-        const double nx = e1y * e2z - e1z * e2y;
-        const double ny = e1z * e2x - e1x * e2z;
-        const double nz = e1x * e2y - e1y * e2x;
-        if (nx == 0.0 && ny == 0.0 && nz == 0.0) {
+        // Exactly, not with the edge vectors in double: their rounding made slivers between
+        // corners of very different magnitudes (1e26 next to 1e-6) look collinear.
+        if (is_degenerate(a, b, c)) {
             ++report.degenerate_triangles;
             continue;
         }

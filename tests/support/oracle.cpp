@@ -34,14 +34,23 @@ OracleReport compare_with_brute_force(const SplitGrid& grid, const MeshView& mes
 OracleReport compare_with_brute_force(const MeshView& mesh, const std::vector<Ray>& rays,
                                       const ClosestHitQuery& closest, const AnyHitQuery& any)
 {
+    return compare_with_oracle(
+        rays, closest, any, [&](const Ray& r) { return intersect_brute_force(mesh, r); },
+        [&](const Ray& r) { return occluded_brute_force(mesh, r); });
+}
+
+OracleReport compare_with_oracle(const std::vector<Ray>& rays, const ClosestHitQuery& closest,
+                                 const AnyHitQuery& any, const ClosestHitQuery& expected_closest,
+                                 const AnyHitQuery& expected_any)
+{
     OracleReport report;
     for (const Ray& ray : rays) {
         ++report.rays;
-        const Hit expected = intersect_brute_force(mesh, ray);
+        const Hit expected = expected_closest(ray);
         const Hit actual = closest(ray);
         if (expected.is_hit()) ++report.hits;
         const bool closest_ok = same_closest_hit(expected, actual);
-        const bool any_ok = any(ray) == occluded_brute_force(mesh, ray);
+        const bool any_ok = any(ray) == expected_any(ray);
         if (!closest_ok) ++report.closest_disagreements;
         if (!any_ok) ++report.any_hit_disagreements;
         if ((!closest_ok || !any_ok) && report.first_failure.empty()) {

@@ -17,6 +17,17 @@ struct OracleReport {
     std::size_t any_hit_disagreements = 0;
     std::size_t hits = 0;  ///< rays the oracle says hit something
     std::string first_failure;  ///< description of the first disagreement
+
+    /// Adds the counts of `other` (a later batch of rays); keeps the earlier first failure.
+    OracleReport& operator+=(const OracleReport& other)
+    {
+        rays += other.rays;
+        closest_disagreements += other.closest_disagreements;
+        any_hit_disagreements += other.any_hit_disagreements;
+        hits += other.hits;
+        if (first_failure.empty()) first_failure = other.first_failure;
+        return *this;
+    }
 };
 
 /// Same closest hit: both miss, or the same triangle at the same t, or (a tie) another
@@ -37,6 +48,14 @@ using AnyHitQuery = std::function<bool(const Ray&)>;
                                                     const std::vector<Ray>& rays,
                                                     const ClosestHitQuery& closest,
                                                     const AnyHitQuery& any);
+
+/// The same with other reference answers (`expected_closest`, `expected_any`), e.g. brute
+/// force restricted to the triangles a ray can reach.
+[[nodiscard]] OracleReport compare_with_oracle(const std::vector<Ray>& rays,
+                                               const ClosestHitQuery& closest,
+                                               const AnyHitQuery& any,
+                                               const ClosestHitQuery& expected_closest,
+                                               const AnyHitQuery& expected_any);
 
 /// Runs intersect() and occluded() on every ray and compares with the brute-force answers.
 [[nodiscard]] OracleReport compare_with_brute_force(const SplitGrid& grid, const MeshView& mesh,

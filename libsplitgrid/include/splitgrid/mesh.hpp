@@ -51,16 +51,16 @@ void check_mesh(const MeshView& mesh);
 struct CleanReport {
     std::size_t bad_index_triangles = 0;  ///< an index past the vertex array
     std::size_t nonfinite_triangles = 0;  ///< a corner with NaN or infinite coordinates
-    std::size_t degenerate_triangles = 0; ///< zero area (cross product of edges exactly 0)
+    std::size_t degenerate_triangles = 0; ///< zero area: collinear corners, decided exactly
     [[nodiscard]] std::size_t dropped() const noexcept
     {
         return bad_index_triangles + nonfinite_triangles + degenerate_triangles;
     }
 };
 
-/// Removes triangles with out-of-range indices, non-finite corners or zero area (the cross
-/// product of two edges, computed in double precision, is exactly zero), keeping the order
-/// of the rest. Vertices are left as they are. Returns what was removed.
+/// Removes triangles with out-of-range indices, non-finite corners or zero area (collinear or
+/// coincident corners, decided in exact arithmetic: the cross product of two edges is zero),
+/// keeping the order of the rest. Vertices are left as they are. Returns what was removed.
 CleanReport clean_mesh(Mesh& mesh);
 
 }  // namespace sg

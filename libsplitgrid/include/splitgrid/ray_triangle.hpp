@@ -67,16 +67,23 @@ struct WatertightRay {
     const float Bz = r.sz * B[r.kz];
     const float Cz = r.sz * C[r.kz];
     const float T = U * Az + V * Bz + W * Cz;
-    // t = T / det must lie in [t_min, t_max]; compare without dividing, minding det's sign.
-    if (det > 0.0f) {
-        if (T < t_min * det || T > t_max * det) return false;
-    } else {
-        if (T > t_min * det || T < t_max * det) return false;
-    }
     if (!(std::isfinite(T))) return false;
+    // Early out before the division: t = T / det far outside [t_min, t_max]. The products
+    // t_min * det and t_max * det round differently from the t computed below, so they get a
+    // margin of 2^-20 (the rounding of both sides stays below 2^-21) and FLT_MIN (underflow):
+    // the decision itself is taken on the returned t only, or a hit would be refused once the
+    // closest hit so far lies a float or two further, and the closest hit would depend on
+    // the order in which triangles are tested.
+    auto widened = [](float x) { return std::abs(x) * 0x1p-20f + 0x1p-126f; };
+    const float lo = t_min * det, hi = t_max * det;
+    if (det > 0.0f) {
+        if (T < lo - widened(lo) || T > hi + widened(hi)) return false;
+    } else {
+        if (T > lo + widened(lo) || T < hi - widened(hi)) return false;
+    }
     const float inv_det = 1.0f / det;
     t_out = T * inv_det;
-    if (!(t_out >= t_min && t_out <= t_max)) return false;  // rounding of the division
+    if (!(t_out >= t_min && t_out <= t_max)) return false;
     u_out = V * inv_det;
     v_out = W * inv_det;
     return true;
