@@ -93,7 +93,7 @@ inline Totals walk_node(const SplitGrid& grid, std::uint32_t id, const Aabb& box
             const std::vector<std::uint32_t> ids = test::leaf_triangles(grid, cell);
             c.triangles = ids.size();
             c.cost = c.box.surface_area() / root_area * static_cast<double>(ids.size());
-            for (const std::uint32_t t : ids) ++e.references_per_triangle.at(t);
+            for (const std::uint32_t tri : ids) ++e.references_per_triangle.at(tri);
         } else if (cell.is_inner()) {
             c.kind = 2;
             const Totals sub = walk_node(grid, cell.child(), c.box, depth + 1, id, e);
