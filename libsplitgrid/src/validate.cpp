@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -133,20 +134,37 @@ void check_invariants(const SplitGrid& grid)
 
 namespace {
 
-// sorted_run[r]: how many references from r on are in non-decreasing order. The builder's
-// leaves are (triangle ids ascending), so a leaf is searched by bisection: linear search made
-// a leaf of n references cost n^2 (100,000 copies of one triangle: 1.1 s). A leaf that is not
-// sorted (a file from elsewhere) is searched linearly.
-std::vector<std::uint32_t> sorted_runs(const std::vector<TriangleRef>& refs)
-{
-    std::vector<std::uint32_t> run(refs.size(), 1);
-    for (std::size_t r = refs.size(); r-- > 1;)
-        if (refs[r - 1].triangle() <= refs[r].triangle()) run[r - 1] = run[r] + 1;
-    return run;
-}
+// Per reference r, what the coverage check needs to find a triangle in the leaf starting at r
+// in less than linear time per lookup: the leaf's length (leaf_refs() walks to the end mark,
+// which made a leaf of n references cost n^2: 100,000 copies of one triangle, 13 s) and how
+// many references from r on are in non-decreasing order. The builder's leaves are sorted
+// (triangle ids ascending) and are searched by bisection; a leaf that is not (a file from
+// elsewhere) is searched linearly.
+struct LeafIndex {
+    std::vector<std::uint32_t> to_end;      // references from r to the end of r's leaf
+    std::vector<std::uint32_t> sorted_run;  // references from r on in non-decreasing order
+
+    explicit LeafIndex(const std::vector<TriangleRef>& refs)
+        : to_end(refs.size(), 1), sorted_run(refs.size(), 1)
+    {
+        for (std::size_t r = refs.size(); r-- > 1;) {
+            if (!refs[r - 1].is_last()) to_end[r - 1] = to_end[r] + 1;
+            if (refs[r - 1].triangle() <= refs[r].triangle()) sorted_run[r - 1] = sorted_run[r] + 1;
+        }
+    }
+
+    [[nodiscard]] bool contains(const std::vector<TriangleRef>& refs, std::uint32_t first,
+                                std::uint32_t tri) const
+    {
+        const std::span<const TriangleRef> leaf(refs.data() + first, to_end[first]);
+        return sorted_run[first] >= leaf.size()
+                   ? std::ranges::binary_search(leaf, tri, {}, &TriangleRef::triangle)
+                   : std::ranges::find(leaf, tri, &TriangleRef::triangle) != leaf.end();
+    }
+};
 
 // Descends from `cell` (covering `box`) through every cell the triangle overlaps.
-void check_triangle(const SplitGrid& grid, const std::vector<std::uint32_t>& sorted_run,
+void check_triangle(const SplitGrid& grid, const LeafIndex& leaves,
                     std::uint32_t tri, const Vec3d (&v)[3], const CellRef& cell, const Aabb& box,
                     const std::string& where)
 {
@@ -154,12 +172,7 @@ void check_triangle(const SplitGrid& grid, const std::vector<std::uint32_t>& sor
     const std::string tri_name = "triangle " + std::to_string(tri);
     if (cell.is_empty()) fail(tri_name + " overlaps " + where + ", which is empty");
     if (cell.is_leaf()) {
-        const auto refs = leaf_refs(grid, cell);
-        const bool found =
-            sorted_run[cell.first_ref()] >= refs.size()
-                ? std::ranges::binary_search(refs, tri, {}, &TriangleRef::triangle)
-                : std::ranges::find(refs, tri, &TriangleRef::triangle) != refs.end();
-        if (!found) fail(tri_name + " overlaps " + where + " but is not in its leaf");
+        if (!leaves.contains(grid.triangle_refs, cell.first_ref(), tri)) fail(tri_name + " overlaps " + where + " but is not in its leaf");
         return;
     }
     const std::uint32_t index = cell.child();
@@ -190,7 +203,7 @@ void check_triangle(const SplitGrid& grid, const std::vector<std::uint32_t>& sor
     const std::uint32_t c1 = cm.locate_highest(
         std::nextafter(static_cast<float>(tmax), std::numeric_limits<float>::infinity()));
     for (std::uint32_t i = c0; i <= c1 && i < n; ++i) {
-        check_triangle(grid, sorted_run, tri, v, grid.cells[node.first_cell() + i],
+        check_triangle(grid, leaves, tri, v, grid.cells[node.first_cell() + i],
                        cm.cell_box(box, axis, i), name + " cell " + std::to_string(i));
     }
 }
@@ -206,7 +219,7 @@ void check_coverage(const SplitGrid& grid, const MeshView& mesh)
         if (grid.triangle_count != 0) fail("root is empty but the mesh has triangles");
         return;
     }
-    const std::vector<std::uint32_t> sorted_run = sorted_runs(grid.triangle_refs);
+    const LeafIndex leaves(grid.triangle_refs);
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, grid.triangle_count, 256),
                       [&](const tbb::blocked_range<std::uint32_t>& r) {
                           for (std::uint32_t t = r.begin(); t < r.end(); ++t) {
@@ -219,7 +232,7 @@ void check_coverage(const SplitGrid& grid, const MeshView& mesh)
                                           p[k] > grid.root_box.upper[k])
                                           fail("triangle " + std::to_string(t) +
                                                " lies outside the root box");
-                              check_triangle(grid, sorted_run, t, v, grid.root, grid.root_box,
+                              check_triangle(grid, leaves, t, v, grid.root, grid.root_box,
                                              "the root cell");
                           }
                       });
