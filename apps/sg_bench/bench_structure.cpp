@@ -1,6 +1,9 @@
 #include "bench_structure.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <type_traits>
+#include <vector>
 
 #include "splitgrid/builder.hpp"
 #include "splitgrid/error.hpp"
@@ -15,25 +18,18 @@ double seconds_since(std::chrono::steady_clock::time_point start)
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void add(TraversalCounters& sum, const TraversalCounters& c)
+// Runs `query(rays, answers)` over `rays` in chunks with scratch answers (closest hits, or
+// any-hit flags), for the work counting of count_work, which keeps no answer.
+template <class Query>
+void count_in_chunks(std::span<const Ray> rays, bool any_hit, const Query& query)
 {
-    sum.nodes_visited += c.nodes_visited;
-    sum.cells_visited += c.cells_visited;
-    sum.triangles_tested += c.triangles_tested;
-}
-
-// Calls f.template operator()<Test, padding>() for the variant's policies, so that each
-// variant's per-ray loop is compiled with its test and padding inlined.
-template <class F>
-void with_policies(const QueryVariant& v, F&& f)
-{
-    const bool pad = v.padding == Padding::Conservative;
-    if (v.test == TriangleTestKind::Watertight) {
-        if (pad) f.template operator()<WatertightTest, Padding::Conservative>();
-        else f.template operator()<WatertightTest, Padding::None>();
-    } else {
-        if (pad) f.template operator()<MollerTrumboreTest, Padding::Conservative>();
-        else f.template operator()<MollerTrumboreTest, Padding::None>();
+    constexpr std::size_t chunk = 1024;
+    std::vector<Hit> hits(std::min(chunk, rays.size()));
+    std::vector<std::uint8_t> flags(hits.size());
+    for (std::size_t begin = 0; begin < rays.size(); begin += chunk) {
+        const std::span<const Ray> part = rays.subspan(begin, std::min(chunk, rays.size() - begin));
+        if (any_hit) query(part, std::span<std::uint8_t>(flags.data(), part.size()));
+        else query(part, std::span<Hit>(hits.data(), part.size()));
     }
 }
 
@@ -53,24 +49,20 @@ public:
     void intersect(std::span<const Ray> rays, std::span<Hit> hits,
                    const QueryVariant& variant) const override
     {
-        with_policies(variant, [&]<class Test, Padding padding>() {
-            for (std::size_t k = 0; k < rays.size(); ++k)
-                hits[k] = intersect_with<Test, padding>(grid_, mesh_, rays[k]);
-        });
+        sg::intersect(grid_, mesh_, rays, hits, nullptr, variant);
     }
     void occluded(std::span<const Ray> rays, std::span<std::uint8_t> out) const override
     {
-        for (std::size_t k = 0; k < rays.size(); ++k)
-            out[k] = sg::occluded(grid_, mesh_, rays[k]) ? 1 : 0;
+        sg::occluded(grid_, mesh_, rays, out);
     }
     bool count_work(std::span<const Ray> rays, bool any_hit, TraversalCounters& sum) const override
     {
-        for (const Ray& r : rays) {
-            TraversalCounters c;
-            if (any_hit) (void)sg::occluded(grid_, mesh_, r, &c);
-            else (void)sg::intersect(grid_, mesh_, r, &c);
-            add(sum, c);
-        }
+        count_in_chunks(rays, any_hit, [&](std::span<const Ray> r, auto hits_or_flags) {
+            if constexpr (std::is_same_v<decltype(hits_or_flags), std::span<Hit>>)
+                sg::intersect(grid_, mesh_, r, hits_or_flags, &sum);
+            else
+                sg::occluded(grid_, mesh_, r, hits_or_flags, &sum);
+        });
         return true;
     }
 
@@ -99,24 +91,20 @@ public:
     void intersect(std::span<const Ray> rays, std::span<Hit> hits,
                    const QueryVariant& variant) const override
     {
-        with_policies(variant, [&]<class Test, Padding padding>() {
-            for (std::size_t k = 0; k < rays.size(); ++k)
-                hits[k] = structure_.template intersect_with<Test, padding>(mesh_, rays[k]);
-        });
+        structure_.intersect(mesh_, rays, hits, nullptr, variant);
     }
     void occluded(std::span<const Ray> rays, std::span<std::uint8_t> out) const override
     {
-        for (std::size_t k = 0; k < rays.size(); ++k)
-            out[k] = structure_.occluded(mesh_, rays[k]) ? 1 : 0;
+        structure_.occluded(mesh_, rays, out);
     }
     bool count_work(std::span<const Ray> rays, bool any_hit, TraversalCounters& sum) const override
     {
-        for (const Ray& r : rays) {
-            TraversalCounters c;
-            if (any_hit) (void)structure_.occluded(mesh_, r, &c);
-            else (void)structure_.intersect(mesh_, r, &c);
-            add(sum, c);
-        }
+        count_in_chunks(rays, any_hit, [&](std::span<const Ray> r, auto hits_or_flags) {
+            if constexpr (std::is_same_v<decltype(hits_or_flags), std::span<Hit>>)
+                structure_.intersect(mesh_, r, hits_or_flags, &sum);
+            else
+                structure_.occluded(mesh_, r, hits_or_flags, &sum);
+        });
         return true;
     }
 
@@ -131,17 +119,17 @@ private:
 std::string variant_name(const QueryVariant& variant)
 {
     std::string name =
-        variant.test == TriangleTestKind::Watertight ? "watertight" : "moller-trumbore";
-    if (variant.padding == Padding::None) name += "-nopad";
+        variant.test == TriangleTest::watertight ? "watertight" : "moller-trumbore";
+    if (variant.padding == Padding::none) name += "-nopad";
     return name;
 }
 
 std::vector<QueryVariant> all_variants()
 {
-    return {{TriangleTestKind::Watertight, Padding::Conservative},
-            {TriangleTestKind::Watertight, Padding::None},
-            {TriangleTestKind::MollerTrumbore, Padding::Conservative},
-            {TriangleTestKind::MollerTrumbore, Padding::None}};
+    return {{TriangleTest::watertight, Padding::conservative},
+            {TriangleTest::watertight, Padding::none},
+            {TriangleTest::moller_trumbore, Padding::conservative},
+            {TriangleTest::moller_trumbore, Padding::none}};
 }
 
 std::vector<std::string> structure_names()

@@ -12,7 +12,7 @@
 #include "splitgrid/baselines/uniform_grid.hpp"
 #include "splitgrid/build_config.hpp"
 #include "splitgrid/mesh.hpp"
-#include "splitgrid/query_policy.hpp"
+#include "splitgrid/query.hpp"
 #include "splitgrid/ray.hpp"
 #include "splitgrid/traversal_counters.hpp"
 
@@ -21,14 +21,9 @@
 /// the virtual call, so the per-ray loop of each structure is its own inlined code.
 namespace sg::bench {
 
-/// Which ray/triangle test and interval padding a query uses (query_policy.hpp). The
-/// default is the exact pair; the others feed the speed-against-accuracy chart.
-enum class TriangleTestKind { Watertight, MollerTrumbore };
-struct QueryVariant {
-    TriangleTestKind test = TriangleTestKind::Watertight;
-    Padding padding = Padding::Conservative;
-    friend bool operator==(const QueryVariant&, const QueryVariant&) = default;
-};
+/// Which ray/triangle test and interval padding a query uses (query.hpp). The default is the
+/// exact pair; the others feed the speed-against-accuracy chart.
+using QueryVariant = QueryOptions;
 /// "watertight", "watertight-nopad", "moller-trumbore", "moller-trumbore-nopad".
 [[nodiscard]] std::string variant_name(const QueryVariant& variant);
 /// The four variants of our own structures, exact first.

@@ -1,16 +1,27 @@
 #include "splitgrid/traverse.hpp"
 
+#include <cmath>
+#include <limits>
+
 #include "splitgrid/ray_triangle.hpp"
 
 namespace sg {
 namespace {
+
+// Direction components below FLT_MIN count as zero (ray.hpp).
+Vec3f flush_denormals(Vec3f d) noexcept
+{
+    for (int k = 0; k < 3; ++k)
+        if (std::abs(d[k]) < std::numeric_limits<float>::min()) d[k] = 0.0f;
+    return d;
+}
 
 template <bool any_hit>
 bool brute_force(const MeshView& mesh, const Ray& ray, Hit& hit) noexcept
 {
     if (!is_valid(ray)) return false;
     Ray flushed = ray;
-    flushed.direction = detail::flush_denormals(ray.direction);
+    flushed.direction = flush_denormals(ray.direction);
     const WatertightRay wr(flushed);
     bool found = false;
     float best = ray.t_max;
@@ -29,18 +40,6 @@ bool brute_force(const MeshView& mesh, const Ray& ray, Hit& hit) noexcept
 }
 
 }  // namespace
-
-Hit intersect(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
-              TraversalCounters* counters) noexcept
-{
-    return intersect_with<>(grid, mesh, ray, counters);
-}
-
-bool occluded(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
-              TraversalCounters* counters) noexcept
-{
-    return occluded_with<>(grid, mesh, ray, counters);
-}
 
 Hit intersect_brute_force(const MeshView& mesh, const Ray& ray) noexcept
 {

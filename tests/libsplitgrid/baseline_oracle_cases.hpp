@@ -13,7 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include "splitgrid/baselines/traversal_common.hpp"
+#include "splitgrid/query.hpp"
+#include "splitgrid/ray_triangle.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/ray.hpp"
@@ -249,7 +250,7 @@ TYPED_TEST_P(BaselineOracle, RaysFromFarAwayThroughEdges)
     std::size_t unpadded_misses = 0;
     for (const Ray& r : rays)
         unpadded_misses += same_closest_hit(intersect_brute_force(mesh.view(), r),
-                                            s.template intersect_with<WatertightTest, Padding::None>(mesh.view(), r))
+                                            s.intersect(mesh.view(), r, nullptr, QueryOptions{TriangleTest::watertight, Padding::none}))
                                ? 0
                                : 1;
     EXPECT_GT(unpadded_misses, 0u) << "the rays should be hard enough to need the widening";
@@ -406,38 +407,51 @@ TYPED_TEST_P(BaselineOracle, CountersSeeTheWork)
     EXPECT_LT(tests, rays.size() * mesh.triangles.size() / 20);
 }
 
-// The traversal is a template on the triangle test: another policy sees the same triangles
-// and, being the same test underneath, gives the same hits.
-struct CountingWatertightTest {
-    explicit CountingWatertightTest(const Ray& ray) noexcept : inner(ray) {}
-    bool operator()(Vec3f a, Vec3f b, Vec3f c, float t_min, float t_max, float& t, float& u,
-                    float& v) const noexcept
-    {
-        ++calls;
-        return inner(a, b, c, t_min, t_max, t, u, v);
+// The closest hit of the Moeller-Trumbore test over all triangles in id order (the first of
+// equal t): the oracle of a query run with TriangleTest::moller_trumbore.
+inline Hit moller_trumbore_brute_force(const MeshView& mesh, const Ray& ray)
+{
+    Hit best;
+    best.t = ray.t_max;
+    for (std::uint32_t tri = 0; tri < mesh.triangle_count(); ++tri) {
+        float t, u, v;
+        if (intersect_triangle_moller_trumbore(ray.origin, ray.direction, mesh.vertex(tri, 0),
+                                               mesh.vertex(tri, 1), mesh.vertex(tri, 2),
+                                               ray.t_min, best.t, t, u, v) &&
+            !(best.is_hit() && !(t < best.t)))
+            best = Hit{t, tri, u, v};
     }
-    WatertightTest inner;
-    static inline thread_local std::size_t calls = 0;
-};
+    return best;
+}
 
-TYPED_TEST_P(BaselineOracle, OtherTriangleTestPolicyIsUsed)
+// The query options reach the kernels: with the Moeller-Trumbore test the structure finds
+// what that test finds over all triangles (rays aimed at edges, where it differs from the
+// watertight test), and without the widening it is still a working traversal.
+TYPED_TEST_P(BaselineOracle, QueryOptionsChooseTheTestAndPadding)
 {
     const Mesh mesh = random_triangles(141, 2000, baseline_scene_box, 1.0f);
     const auto s = build_checked_baseline<TypeParam>(mesh);
-    const auto rays = rays_at_triangles(142, 2000, baseline_scene_box, mesh.view());
-    std::size_t disagreements = 0, counted = 0, unpadded_agreements = 0;
-    for (const Ray& r : rays) {
-        TraversalCounters c;
-        CountingWatertightTest::calls = 0;
-        const Hit h = s.template intersect_with<CountingWatertightTest>(mesh.view(), r, &c);
-        counted += CountingWatertightTest::calls == c.triangles_tested ? 1 : 0;
-        const Hit expected = intersect_brute_force(mesh.view(), r);
-        disagreements += same_closest_hit(expected, h) ? 0 : 1;
-        const Hit unpadded = s.template intersect_with<WatertightTest, Padding::None>(mesh.view(), r);
-        unpadded_agreements += same_closest_hit(expected, unpadded) ? 1 : 0;
+    std::vector<Ray> rays = rays_at_triangles(142, 2000, baseline_scene_box, mesh.view());
+    // Half of them aimed exactly at edge midpoints, where the two tests part ways.
+    for (std::size_t k = 0; k < rays.size(); k += 2) {
+        const auto tri = static_cast<std::uint32_t>(k % mesh.triangles.size());
+        const Vec3f mid = (mesh.view().vertex(tri, 0) + mesh.view().vertex(tri, 1)) * 0.5f;
+        rays[k].direction = mid - rays[k].origin;
     }
-    EXPECT_EQ(disagreements, 0u);
-    EXPECT_EQ(counted, rays.size());
+    const QueryOptions moller{TriangleTest::moller_trumbore, Padding::conservative};
+    std::size_t moller_disagreements = 0, tests_differ = 0, unpadded_agreements = 0;
+    for (const Ray& r : rays) {
+        const Hit expected = moller_trumbore_brute_force(mesh.view(), r);
+        const Hit h = s.intersect(mesh.view(), r, nullptr, moller);
+        moller_disagreements += same_closest_hit(expected, h) ? 0 : 1;
+        const Hit watertight = intersect_brute_force(mesh.view(), r);
+        tests_differ += same_closest_hit(watertight, expected) ? 0 : 1;
+        const Hit unpadded =
+            s.intersect(mesh.view(), r, nullptr, QueryOptions{TriangleTest::watertight, Padding::none});
+        unpadded_agreements += same_closest_hit(watertight, unpadded) ? 1 : 0;
+    }
+    EXPECT_EQ(moller_disagreements, 0u);
+    EXPECT_GT(tests_differ, 0u) << "the rays should tell the two triangle tests apart";
     // Without the widening the traversal may lose a rare ray near an edge, but it must still
     // be a working traversal.
     EXPECT_GE(unpadded_agreements, rays.size() * 99 / 100);
@@ -452,6 +466,6 @@ REGISTER_TYPED_TEST_SUITE_P(BaselineOracle, RandomSoupsAgreeWithBruteForce,
                             EmptyMeshMissesEverything, SingleTriangle, IdenticalTrianglesTerminate,
                             InvalidRaysMissWithoutTouchingTheStructure,
                             BuildIsIndependentOfThreadCount, CountersSeeTheWork,
-                            OtherTriangleTestPolicyIsUsed);
+                            QueryOptionsChooseTheTestAndPadding);
 
 }  // namespace sg::test

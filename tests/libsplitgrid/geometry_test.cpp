@@ -9,7 +9,6 @@
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/clip.hpp"
 #include "splitgrid/mesh.hpp"
-#include "splitgrid/query_policy.hpp"
 #include "splitgrid/ray_triangle.hpp"
 #include "splitgrid/resolution.hpp"
 
@@ -155,8 +154,8 @@ TEST(MollerTrumbore, HitsLieOnTheTriangleAndAgreeWithTheWatertightTestAwayFromEd
         const Vec3f n = normalize(cross(b - a, c - a));
         if (std::abs(dot(n, normalize(ray.direction))) < 0.05f) continue;
         float t1, u1, v1, t2, u2, v2;
-        ASSERT_TRUE(WatertightTest(ray)(a, b, c, 0.0f, 10.0f, t1, u1, v1)) << k;
-        ASSERT_TRUE(MollerTrumboreTest(ray)(a, b, c, 0.0f, 10.0f, t2, u2, v2)) << k;
+        ASSERT_TRUE(intersect_triangle(WatertightRay(ray), a, b, c, 0.0f, 10.0f, t1, u1, v1)) << k;
+        ASSERT_TRUE(intersect_triangle_moller_trumbore(ray.origin, ray.direction, a, b, c, 0.0f, 10.0f, t2, u2, v2)) << k;
         EXPECT_NEAR(t2, 1.0f, 1e-3f) << k;
         EXPECT_NEAR(t1, t2, 1e-3f) << k;
         EXPECT_NEAR(u2, wu, 1e-3f) << k;
@@ -164,8 +163,8 @@ TEST(MollerTrumbore, HitsLieOnTheTriangleAndAgreeWithTheWatertightTestAwayFromEd
         // Beyond a corner, outside the triangle: both miss.
         const Vec3f outside = a + (a - (b + c) * 0.5f) * 0.5f;
         const Ray away{origin, outside - origin, 0.0f, 10.0f};
-        EXPECT_FALSE(WatertightTest(away)(a, b, c, 0.0f, 10.0f, t1, u1, v1)) << k;
-        EXPECT_FALSE(MollerTrumboreTest(away)(a, b, c, 0.0f, 10.0f, t2, u2, v2)) << k;
+        EXPECT_FALSE(intersect_triangle(WatertightRay(away), a, b, c, 0.0f, 10.0f, t1, u1, v1)) << k;
+        EXPECT_FALSE(intersect_triangle_moller_trumbore(away.origin, away.direction, a, b, c, 0.0f, 10.0f, t2, u2, v2)) << k;
         ++compared;
     }
     EXPECT_GT(compared, 8000);

@@ -89,4 +89,37 @@ struct WatertightRay {
     return true;
 }
 
+/// The test of Moeller and Trumbore, "Fast, Minimum Storage Ray/Triangle Intersection"
+/// (JGT 2(1), 1997), in single precision and without an epsilon: a few flops cheaper than the
+/// watertight test and not watertight. Its barycentric tests are computed separately for each
+/// triangle, so a ray through a shared edge can fail both triangles' tests, and rays nearly
+/// parallel to a triangle lose precision in the determinant. For sg-bench's
+/// speed-against-accuracy chart only (TriangleTest::moller_trumbore); never the default.
+/// Same contract as intersect_triangle.
+[[nodiscard]] inline bool intersect_triangle_moller_trumbore(Vec3f origin, Vec3f direction,
+                                                             Vec3f a, Vec3f b, Vec3f c,
+                                                             float t_min, float t_max,
+                                                             float& t_out, float& u_out,
+                                                             float& v_out) noexcept
+{
+    const Vec3f e1 = b - a;
+    const Vec3f e2 = c - a;
+    const Vec3f p = cross(direction, e2);
+    const float det = dot(e1, p);
+    if (det == 0.0f) return false;
+    const float inv_det = 1.0f / det;
+    const Vec3f s = origin - a;
+    const float bu = dot(s, p) * inv_det;
+    if (!(bu >= 0.0f && bu <= 1.0f)) return false;
+    const Vec3f q = cross(s, e1);
+    const float bv = dot(direction, q) * inv_det;
+    if (!(bv >= 0.0f && bu + bv <= 1.0f)) return false;
+    const float t = dot(e2, q) * inv_det;
+    if (!(t >= t_min && t <= t_max)) return false;
+    t_out = t;
+    u_out = bu;
+    v_out = bv;
+    return true;
+}
+
 }  // namespace sg

@@ -1,10 +1,13 @@
 #pragma once
 
-#include "splitgrid/detail/grid_traversal.hpp"
+#include <cstdint>
+#include <span>
+
 #include "splitgrid/mesh.hpp"
-#include "splitgrid/query_policy.hpp"
+#include "splitgrid/query.hpp"
 #include "splitgrid/ray.hpp"
 #include "splitgrid/split_grid.hpp"
+#include "splitgrid/structure_queries.hpp"
 #include "splitgrid/traversal_counters.hpp"
 
 namespace sg {
@@ -13,39 +16,47 @@ namespace sg {
 /// grid was built for). Returns the smallest t found by the watertight test; on equal t the
 /// triangle found first wins. Invalid rays (see is_valid) return no hit.
 /// Cost: the cells the ray crosses up to the hit, front to back; no recursion, a fixed
-/// stack of max_supported_depth + 1 entries; a mailbox of the last 8 triangles tested skips
-/// a triangle met again in a neighbouring cell (its answer cannot change).
-[[nodiscard]] Hit intersect(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
-                            TraversalCounters* counters = nullptr) noexcept;
+/// stack of max_supported_depth + 1 entries; a mailbox skips a triangle met again in a
+/// neighbouring cell (its answer cannot change); the triangles of a leaf are tested up to
+/// eight at a time. Runs the kernels of kernel_isa() (query.hpp). `counters`, when given, gets
+/// this query's work added (nodes entered, cells stepped, triangles tested).
+[[nodiscard]] inline Hit intersect(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
+                                   TraversalCounters* counters = nullptr,
+                                   const QueryOptions& options = {}) noexcept
+{
+    Hit hit;
+    detail::closest_hits(grid, mesh, {&ray, 1}, {&hit, 1}, counters, options);
+    return hit;
+}
 
 /// True if any triangle is hit with t in [t_min, t_max] (shadow rays). Stops at the first hit.
-[[nodiscard]] bool occluded(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
-                            TraversalCounters* counters = nullptr) noexcept;
-
-/// The same queries with another triangle-test policy (query_policy.hpp) or without the
-/// traversal's conservative widening (Padding::None): for sg-bench's speed/accuracy chart and
-/// for tests that count the triangle tests. intersect() is intersect_with<>().
-template <class Test = WatertightTest, Padding padding = Padding::Conservative>
-[[nodiscard]] Hit intersect_with(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
-                                 TraversalCounters* counters = nullptr) noexcept
+[[nodiscard]] inline bool occluded(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
+                                   TraversalCounters* counters = nullptr) noexcept
 {
-    Hit miss;
-    miss.t = ray.t_max;
-    if (!is_valid(ray)) return miss;
-    detail::GridTraversal<false, Test, padding> traversal(grid, mesh, ray, counters);
-    return traversal.run() ? traversal.hit() : miss;
+    std::uint8_t out = 0;
+    detail::any_hits(grid, mesh, {&ray, 1}, {&out, 1}, counters);
+    return out != 0;
 }
-template <class Test = WatertightTest, Padding padding = Padding::Conservative>
-[[nodiscard]] bool occluded_with(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
-                                 TraversalCounters* counters = nullptr) noexcept
+
+/// Closest hits of a batch of rays (`hits` has rays.size() entries), serially in the calling
+/// thread: the per-ray dispatch is paid once per batch. `total` gets the work of all rays.
+inline void intersect(const SplitGrid& grid, const MeshView& mesh, std::span<const Ray> rays,
+                      std::span<Hit> hits, TraversalCounters* total = nullptr,
+                      const QueryOptions& options = {}) noexcept
 {
-    if (!is_valid(ray)) return false;
-    detail::GridTraversal<true, Test, padding> traversal(grid, mesh, ray, counters);
-    return traversal.run();
+    detail::closest_hits(grid, mesh, rays, hits, total, options);
+}
+
+/// Any-hit answers of a batch (1 = occluded).
+inline void occluded(const SplitGrid& grid, const MeshView& mesh, std::span<const Ray> rays,
+                     std::span<std::uint8_t> occluded, TraversalCounters* total = nullptr) noexcept
+{
+    detail::any_hits(grid, mesh, rays, occluded, total);
 }
 
 /// Reference answer: tests every triangle of the mesh in id order with the same watertight
-/// test. O(triangles) per ray: for tests and the benchmark's correctness checks.
+/// test, in plain scalar code independent of the traversal kernels. O(triangles) per ray: for
+/// tests and the benchmark's correctness checks.
 [[nodiscard]] Hit intersect_brute_force(const MeshView& mesh, const Ray& ray) noexcept;
 [[nodiscard]] bool occluded_brute_force(const MeshView& mesh, const Ray& ray) noexcept;
 

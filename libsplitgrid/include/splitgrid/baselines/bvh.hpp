@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "splitgrid/aabb.hpp"
-#include "splitgrid/baselines/traversal_common.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/ray.hpp"
-#include "splitgrid/traverse.hpp"
+#include "splitgrid/error.hpp"
+#include "splitgrid/structure_queries.hpp"
 
 namespace sg {
 
@@ -105,7 +105,7 @@ static_assert(std::is_trivially_copyable_v<BvhNode>, "BvhNode is copied as bytes
 /// A bounding volume hierarchy over the triangles' boxes, each padded by boundary_pad so that
 /// a hit the watertight test reports a few ulps outside its triangle is inside the leaf's box.
 /// Every triangle is referenced exactly once.
-class Bvh : public BaselineQueries<Bvh> {
+class Bvh : public StructureQueries<Bvh> {
 public:
     using Config = BvhConfig;
 
@@ -114,8 +114,9 @@ public:
     /// mesh gives an empty BVH on which every query misses.
     [[nodiscard]] static Bvh build(const MeshView& mesh, const BvhConfig& config = {});
 
-    // Queries (intersect, occluded, intersect_with, occluded_with): BaselineQueries in
-    // traversal_common.hpp. Counters: nodes_visited = inner nodes whose children were tested, cells_visited = leaves.
+    // Queries (intersect, occluded): StructureQueries (structure_queries.hpp), traversed by
+    // src/kernels/bvh_walk.hpp. Counters: nodes_visited = inner nodes whose children were
+    // tested, cells_visited = leaves.
 
     /// Bytes of the BVH itself: nodes and references (not the mesh).
     [[nodiscard]] std::size_t memory_bytes() const noexcept
@@ -136,113 +137,10 @@ public:
     friend bool operator==(const Bvh&, const Bvh&) = default;
 
 private:
-    // The slab test's rounding allowance (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013):
-    // each crossing (plane - origin) * (1 / direction) has three roundings, so its relative
-    // error is below gamma(3) = 3u / (1 - 3u), u = 2^-24. Widening the entry down and the
-    // exit up by 2 gamma(3) each (twice what Ize needs) keeps every box the exact ray
-    // touches, including at its edges and corners.
-    static constexpr float t_pad(Padding padding) noexcept
-    {
-        constexpr double u = 0x1p-24;
-        return padding == Padding::Conservative ? static_cast<float>(2.0 * 3.0 * u / (1.0 - 3.0 * u))
-                                                : 0.0f;
-    }
-
-    friend class BaselineQueries<Bvh>;
-    template <Padding padding, class Search>
-    void walk(const detail::BaselineRay& ray, Search& search) const noexcept;
-
     std::uint32_t triangle_count_ = 0;
     std::uint32_t depth_ = 0;
     std::vector<BvhNode> nodes_;
     std::vector<std::uint32_t> refs_;
 };
-
-namespace detail {
-
-// Entry parameter of the ray into `box` within [t_min, t_max], widened by `pad`, or +inf if
-// the ray misses it. Zero direction components have infinite reciprocals: a crossing is then
-// +-inf, or NaN when the origin lies on the plane; the max/min below keep their first
-// operand when the second is NaN, so such an axis constrains nothing, as it should (the ray
-// lies in the closed slab).
-[[nodiscard]] inline float slab_entry(const BaselineRay& ray, const std::array<int, 3>& negative,
-                                      const Aabb& box, float t_min, float t_max, float pad) noexcept
-{
-    float enter = t_min;
-    float leave = t_max;
-    for (int k = 0; k < 3; ++k) {
-        const auto uk = static_cast<std::size_t>(k);
-        const float near_plane = negative[uk] ? box.upper[k] : box.lower[k];
-        const float far_plane = negative[uk] ? box.lower[k] : box.upper[k];
-        const float t_near = (near_plane - ray.origin[k]) * ray.inv_dir[k];
-        const float t_far = (far_plane - ray.origin[k]) * ray.inv_dir[k];
-        enter = enter < t_near ? t_near : enter;
-        leave = t_far < leave ? t_far : leave;
-    }
-    enter = widen_down(enter, pad);
-    return enter <= widen_up(leave, pad) ? enter : std::numeric_limits<float>::infinity();
-}
-
-}  // namespace detail
-
-template <Padding padding, class Search>
-void Bvh::walk(const detail::BaselineRay& ray, Search& search) const noexcept
-{
-    if (nodes_.empty()) return;
-    constexpr float pad = t_pad(padding);
-    constexpr float miss = std::numeric_limits<float>::infinity();
-    const std::array<int, 3> negative{std::signbit(ray.inv_dir[0]) ? 1 : 0,
-                                      std::signbit(ray.inv_dir[1]) ? 1 : 0,
-                                      std::signbit(ray.inv_dir[2]) ? 1 : 0};
-    if (detail::slab_entry(ray, negative, nodes_[0].bounds, ray.t_min, ray.t_max, pad) == miss)
-        return;
-
-    struct Pending {
-        std::uint32_t node;
-        float t_enter;
-    };
-    std::array<Pending, bvh_max_supported_depth + 1> stack;  // only [0, sp) is read
-    std::size_t sp = 0;
-    std::uint32_t index = 0;
-    for (;;) {
-        const BvhNode& node = nodes_[index];
-        if (!node.is_leaf()) {
-            search.count_node();
-            // The child on the ray's side of the split first (by the direction's sign).
-            const auto flip = static_cast<std::uint32_t>(negative[static_cast<std::size_t>(node.axis())]);
-            const std::uint32_t near_child = node.first_child() + flip;
-            const std::uint32_t far_child = node.first_child() + 1 - flip;
-            const float t_near = detail::slab_entry(ray, negative, nodes_[near_child].bounds,
-                                                    ray.t_min, search.best_t(), pad);
-            const float t_far = detail::slab_entry(ray, negative, nodes_[far_child].bounds,
-                                                   ray.t_min, search.best_t(), pad);
-            if (t_near != miss) {
-                if (t_far != miss) {
-                    SG_ASSERT(sp < stack.size());
-                    stack[sp++] = Pending{far_child, t_far};
-                }
-                index = near_child;
-                continue;
-            }
-            if (t_far != miss) {
-                index = far_child;
-                continue;
-            }
-        } else {
-            search.count_cell();
-            search.test_all(refs_.data() + node.first_ref(), node.ref_count());
-            if (search.done()) return;
-        }
-        // Next pending subtree whose box starts before the closest hit so far.
-        for (;;) {
-            if (sp == 0) return;
-            const Pending& next = stack[--sp];
-            if (next.t_enter <= search.best_t()) {
-                index = next.node;
-                break;
-            }
-        }
-    }
-}
 
 }  // namespace sg

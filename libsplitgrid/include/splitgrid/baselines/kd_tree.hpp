@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "splitgrid/aabb.hpp"
-#include "splitgrid/baselines/traversal_common.hpp"
+#include "splitgrid/error.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/ray.hpp"
-#include "splitgrid/traverse.hpp"
+#include "splitgrid/structure_queries.hpp"
 
 namespace sg {
 
@@ -122,7 +122,7 @@ static_assert(std::is_trivially_copyable_v<KdNode>, "KdNode is copied as bytes w
 /// watertight test reports a few ulps outside its triangle is still in a visited leaf); the
 /// traversal widens its plane crossings (t_pad) and visits both children when a ray parallel
 /// to the split plane lies in it.
-class KdTree : public BaselineQueries<KdTree> {
+class KdTree : public StructureQueries<KdTree> {
 public:
     using Config = KdTreeConfig;
 
@@ -131,8 +131,9 @@ public:
     /// mesh gives an empty tree on which every query misses.
     [[nodiscard]] static KdTree build(const MeshView& mesh, const KdTreeConfig& config = {});
 
-    // Queries (intersect, occluded, intersect_with, occluded_with): BaselineQueries in
-    // traversal_common.hpp. Counters: nodes_visited = inner nodes, cells_visited = leaves.
+    // Queries (intersect, occluded): StructureQueries (structure_queries.hpp), traversed by
+    // src/kernels/kd_tree_walk.hpp. Counters: nodes_visited = inner nodes, cells_visited =
+    // leaves.
 
     /// Bytes of the tree itself: box, nodes and references (not the mesh).
     [[nodiscard]] std::size_t memory_bytes() const noexcept
@@ -155,105 +156,11 @@ public:
     friend bool operator==(const KdTree&, const KdTree&) = default;
 
 private:
-    // Plane crossings (plane - origin) * (1 / direction) have three roundings (relative error
-    // below 2^-22); the near child's interval is widened up and the far child's down by 2^-20
-    // relative, so the two overlap around the split and no ray slips between them. The same
-    // factor as the Split Grid's traverser.
-    static constexpr float t_pad(Padding padding) noexcept
-    {
-        return padding == Padding::Conservative ? 0x1p-20f : 0.0f;
-    }
-
-    friend class BaselineQueries<KdTree>;
-    template <Padding padding, class Search>
-    void walk(const detail::BaselineRay& ray, Search& search) const noexcept;
-
     Aabb box_;
     std::uint32_t triangle_count_ = 0;
     std::uint32_t depth_ = 0;
     std::vector<KdNode> nodes_;
     std::vector<std::uint32_t> refs_;
 };
-
-template <Padding padding, class Search>
-void KdTree::walk(const detail::BaselineRay& ray, Search& search) const noexcept
-{
-    if (nodes_.empty()) return;
-    constexpr float pad = t_pad(padding);
-    float t0 = ray.t_min;
-    float t1 = ray.t_max;
-    if (!detail::clip_to_box(ray, box_, pad, t0, t1)) return;
-
-    struct Pending {
-        std::uint32_t node;
-        float t0;
-        float t1;
-    };
-    std::array<Pending, kd_max_supported_depth + 1> stack;  // only [0, sp) is read
-    std::size_t sp = 0;
-    std::uint32_t index = 0;
-    for (;;) {
-        KdNode node = nodes_[index];
-        while (!node.is_leaf()) {
-            search.count_node();
-            const int a = node.axis();
-            const float split = node.split();
-            const std::uint32_t below = index + 1;
-            const std::uint32_t above = node.above_child();
-            if (ray.is_parallel[a]) {
-                // Parallel to the plane: the side holding the origin; a ray lying in the plane
-                // is in both closed children. (The padded assignment already puts everything
-                // such a ray can hit on both sides; visiting both does not rely on it.)
-                if (ray.origin[a] < split) {
-                    index = below;
-                } else if (ray.origin[a] > split) {
-                    index = above;
-                } else {
-                    SG_ASSERT(sp < stack.size());
-                    stack[sp++] = Pending{above, t0, t1};
-                    index = below;
-                }
-            } else {
-                // Children in ray order by the direction's sign (robust for an origin on the
-                // plane, where the crossing is +-0).
-                const float t_split = ray.crossing(a, split);
-                const bool below_first = ray.direction[a] > 0.0f;
-                const std::uint32_t first = below_first ? below : above;
-                const std::uint32_t second = below_first ? above : below;
-                const float first_end = std::min(t1, detail::widen_up(t_split, pad));
-                const float second_start = std::max(t0, detail::widen_down(t_split, pad));
-                const bool visit_first = t0 <= first_end;
-                const bool visit_second = second_start <= t1;
-                if (visit_first) {
-                    if (visit_second) {
-                        SG_ASSERT(sp < stack.size());
-                        stack[sp++] = Pending{second, second_start, t1};
-                    }
-                    index = first;
-                    t1 = first_end;
-                } else {
-                    index = second;
-                    t0 = second_start;
-                }
-            }
-            node = nodes_[index];
-        }
-        search.count_cell();
-        if (node.ref_count() > 0) search.test_all(refs_.data() + node.first_ref(), node.ref_count());
-        if (search.done()) return;
-        // Next pending node that may still hold a closer hit; hits beyond this leaf's interval
-        // are kept as candidates and cut the rest off here.
-        for (;;) {
-            if (sp == 0) return;
-            const Pending& next = stack[--sp];
-            if (next.t0 <= search.best_t()) {
-                index = next.node;
-                t0 = next.t0;
-                t1 = next.t1;
-                break;
-            }
-        }
-    }
-}
 
 }  // namespace sg

@@ -9,11 +9,10 @@
 #include <vector>
 
 #include "splitgrid/aabb.hpp"
-#include "splitgrid/baselines/traversal_common.hpp"
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/ray.hpp"
-#include "splitgrid/traverse.hpp"
+#include "splitgrid/structure_queries.hpp"
 
 namespace sg {
 
@@ -63,7 +62,7 @@ struct UniformGridConfig {
 /// box, padded by boundary_pad, its polygon overlaps; overlap is decided exactly by clipping
 /// the triangle in double precision (clip.hpp), first to the cell's x slab, then its y slab.
 /// Cell planes on each axis come from CellMath, the same mapping at build and traversal.
-class UniformGrid : public BaselineQueries<UniformGrid> {
+class UniformGrid : public StructureQueries<UniformGrid> {
 public:
     using Config = UniformGridConfig;
 
@@ -73,8 +72,9 @@ public:
     /// per-triangle pass; the counting sort into cells is serial.
     [[nodiscard]] static UniformGrid build(const MeshView& mesh, const UniformGridConfig& config = {});
 
-    // Queries (intersect, occluded, intersect_with, occluded_with): BaselineQueries in
-    // traversal_common.hpp. Counters: cells_visited = cells stepped through (side cells included).
+    // Queries (intersect, occluded): StructureQueries (structure_queries.hpp), traversed by
+    // src/kernels/uniform_grid_walk.hpp. Counters: cells_visited = cells stepped through
+    // (side cells included).
 
     /// Bytes of the grid itself: the box, resolution, offsets and references (not the mesh).
     [[nodiscard]] std::size_t memory_bytes() const noexcept
@@ -112,131 +112,21 @@ public:
 
     friend bool operator==(const UniformGrid&, const UniformGrid&) = default;
 
-private:
-    // Ray intervals are widened by this much, relative, wherever a plane crossing
-    // (plane - origin) * (1 / direction) decides which cells are visited or when the walk
-    // stops. The crossing has three roundings (relative error below 2^-22), so the widened
-    // interval contains the exact one. The same factor as the Split Grid's traverser.
-    static constexpr float t_pad(Padding padding) noexcept
-    {
-        return padding == Padding::Conservative ? 0x1p-20f : 0.0f;
-    }
-
+    /// Linear index of the cell (x, y, z) into cell_offsets().
     [[nodiscard]] std::size_t cell_index(std::uint32_t x, std::uint32_t y, std::uint32_t z) const noexcept
     {
         return (std::size_t{z} * resolution_[1] + y) * resolution_[0] + x;
     }
+    /// cell_count() + 1 offsets into refs(): cell c holds refs()[offsets[c], offsets[c + 1]).
+    [[nodiscard]] std::span<const std::uint32_t> cell_offsets() const noexcept { return cell_offsets_; }
+    [[nodiscard]] std::span<const std::uint32_t> refs() const noexcept { return refs_; }
 
-    friend class BaselineQueries<UniformGrid>;
-    template <Padding padding, class Search>
-    void walk(const detail::BaselineRay& ray, Search& search) const noexcept;
-
+private:
     Aabb box_;
     std::array<std::uint32_t, 3> resolution_{0, 0, 0};
     std::uint32_t triangle_count_ = 0;
     std::vector<std::uint32_t> cell_offsets_;
     std::vector<std::uint32_t> refs_;
 };
-
-namespace detail {
-
-// One axis of the grid as the walk sees it: its cell planes and the ray's crossings of them.
-struct GridAxis {
-    const BaselineRay* ray;
-    CellMath cells;
-    int axis;
-    bool parallel;
-    bool forward;  // the ray moves towards higher cell indices
-
-    [[nodiscard]] float crossing(std::uint32_t boundary) const noexcept
-    {
-        return ray->crossing(axis, cells.boundary(boundary));
-    }
-    // Plane through which the ray enters (leaves) cell i.
-    [[nodiscard]] std::uint32_t entry_plane(std::uint32_t i) const noexcept { return forward ? i : i + 1; }
-    [[nodiscard]] std::uint32_t exit_plane(std::uint32_t i) const noexcept { return forward ? i + 1 : i; }
-    // The first cell, in ray order, whose interval widened by `pad` holds t (a guess from the
-    // position at t, corrected with the same crossings the walk uses); for a parallel ray the
-    // cell holding the origin (the lower one on a plane: triangles touching the plane are
-    // referenced by both).
-    [[nodiscard]] std::uint32_t first_cell(float t, float pad) const noexcept
-    {
-        if (parallel) return cells.locate_lowest(ray->origin[axis]);
-        std::uint32_t i = cells.guess(ray->origin[axis] + t * ray->direction[axis]);
-        auto enters_after = [&](std::uint32_t c) { return widen_down(crossing(entry_plane(c)), pad) > t; };
-        auto leaves_before = [&](std::uint32_t c) { return widen_up(crossing(exit_plane(c)), pad) < t; };
-        if (forward) {
-            while (i > 0 && enters_after(i)) --i;
-            while (i + 1 < cells.n && leaves_before(i)) ++i;
-        } else {
-            while (i + 1 < cells.n && enters_after(i)) ++i;
-            while (i > 0 && leaves_before(i)) --i;
-        }
-        return i;
-    }
-};
-
-}  // namespace detail
-
-// The 3D-DDA of Amanatides and Woo, made conservative by stepping the three axes as nested
-// one-dimensional DDAs: the x slabs the ray crosses in ray order, within each the y cells over
-// the slab's ray interval, within each of those the z cells. Every plane crossing is widened
-// by t_pad, and a cell is visited when its widened x, y and z intervals overlap inside the
-// ray's window: a superset of the cells the exact ray touches, in ray order. (The classic
-// single walk that steps the axis with the nearest crossing, plus the neighbours of near
-// ties, lost 50 of 10^4 rays whose origins were 10^7 scene units away, where the widening
-// spans many cells; this form lost none.) Triangles are tested over [t_min, closest so far]
-// and each walk stops when its next cell starts (widened down) after the closest hit or the
-// end of the interval, so a hit found in a cell but lying beyond it is kept while cells in
-// front of it are still visited.
-template <Padding padding, class Search>
-void UniformGrid::walk(const detail::BaselineRay& ray, Search& search) const noexcept
-{
-    if (refs_.empty()) return;
-    constexpr float pad = t_pad(padding);
-    float t0 = ray.t_min;
-    float t1 = ray.t_max;
-    if (!detail::clip_to_box(ray, box_, pad, t0, t1)) return;
-    std::array<detail::GridAxis, 3> axes;
-    for (int k = 0; k < 3; ++k)
-        axes[static_cast<std::size_t>(k)] =
-            detail::GridAxis{&ray, axis_cells(k), k, ray.is_parallel[k], ray.direction[k] > 0.0f};
-
-    // Calls inner(cell, lo, hi) for the cells of `g` whose widened interval meets [lo, hi],
-    // in ray order, with the overlap; true as soon as inner says the query is done.
-    auto step = [&](const detail::GridAxis& g, float lo, float hi, const auto& inner) {
-        std::uint32_t i = g.first_cell(lo, pad);
-        if (g.parallel) return inner(i, lo, hi);
-        float enter = detail::widen_down(g.crossing(g.entry_plane(i)), pad);
-        for (;;) {
-            if (enter > std::min(hi, search.best_t())) return false;
-            const float leave = g.crossing(g.exit_plane(i));
-            const float cell_lo = std::max(lo, enter);
-            const float cell_hi = std::min(hi, detail::widen_up(leave, pad));
-            if (cell_lo <= cell_hi && inner(i, cell_lo, cell_hi)) return true;
-            if (g.forward ? i + 1 >= g.cells.n : i == 0) return false;
-            i = g.forward ? i + 1 : i - 1;
-            enter = detail::widen_down(leave, pad);
-        }
-    };
-    // Triangles span about two cells each (docs/BASELINES.md): test each once per query.
-    detail::Mailbox<16> mailbox;
-    auto visit = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-        search.count_cell();
-        const std::size_t c = cell_index(x, y, z);
-        const std::uint32_t end = cell_offsets_[c + 1];
-        for (std::uint32_t r = cell_offsets_[c]; r < end; ++r) {
-            const std::uint32_t tri = refs_[r];
-            if (!mailbox.seen(tri) && search.test(tri) && search.done()) return true;
-        }
-        return false;
-    };
-    (void)step(axes[0], t0, t1, [&](std::uint32_t x, float x0, float x1) {
-        return step(axes[1], x0, x1, [&](std::uint32_t y, float y0, float y1) {
-            return step(axes[2], y0, y1,
-                        [&](std::uint32_t z, float, float) { return visit(x, y, z); });
-        });
-    });
-}
 
 }  // namespace sg

@@ -1,0 +1,76 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "splitgrid/mesh.hpp"
+#include "splitgrid/query.hpp"
+#include "splitgrid/ray.hpp"
+#include "splitgrid/traversal_counters.hpp"
+
+namespace sg {
+
+namespace detail {
+
+/// The dispatched queries behind every structure's intersect() and occluded(): they run the
+/// kernels of kernel_isa() (src/kernels/). Defined for SplitGrid, Bvh, KdTree and UniformGrid.
+/// `total`, when not null, gets the work of every ray added to it.
+template <class Structure>
+void closest_hits(const Structure& structure, const MeshView& mesh, std::span<const Ray> rays,
+                  std::span<Hit> hits, TraversalCounters* total,
+                  const QueryOptions& options) noexcept;
+template <class Structure>
+void any_hits(const Structure& structure, const MeshView& mesh, std::span<const Ray> rays,
+              std::span<std::uint8_t> occluded, TraversalCounters* total) noexcept;
+
+}  // namespace detail
+
+/// The queries every comparison structure offers (inherited by UniformGrid, KdTree and Bvh),
+/// with the semantics of the Split Grid's (traverse.hpp): the smallest t in the closed window
+/// [t_min, t_max] found by the query's triangle test, the first found on equal t; invalid
+/// rays (is_valid) miss without touching the structure; a miss has t = t_max. `mesh` must be
+/// the mesh the structure was built on. Each structure's header says what its counters count.
+template <class Structure>
+class StructureQueries {
+public:
+    /// Closest hit; `counters`, when given, gets this query's work added.
+    [[nodiscard]] Hit intersect(const MeshView& mesh, const Ray& ray,
+                                TraversalCounters* counters = nullptr,
+                                const QueryOptions& options = {}) const noexcept
+    {
+        Hit hit;
+        detail::closest_hits(self(), mesh, {&ray, 1}, {&hit, 1}, counters, options);
+        return hit;
+    }
+    /// True if any triangle is hit in [t_min, t_max] (watertight test); stops at the first.
+    [[nodiscard]] bool occluded(const MeshView& mesh, const Ray& ray,
+                                TraversalCounters* counters = nullptr) const noexcept
+    {
+        std::uint8_t out = 0;
+        detail::any_hits(self(), mesh, {&ray, 1}, {&out, 1}, counters);
+        return out != 0;
+    }
+    /// Closest hits of a batch (`hits` has rays.size() entries), serially in the calling
+    /// thread; `total` gets the work of all rays added.
+    void intersect(const MeshView& mesh, std::span<const Ray> rays, std::span<Hit> hits,
+                   TraversalCounters* total = nullptr, const QueryOptions& options = {}) const noexcept
+    {
+        detail::closest_hits(self(), mesh, rays, hits, total, options);
+    }
+    /// Any-hit answers of a batch (1 = occluded).
+    void occluded(const MeshView& mesh, std::span<const Ray> rays, std::span<std::uint8_t> occluded,
+                  TraversalCounters* total = nullptr) const noexcept
+    {
+        detail::any_hits(self(), mesh, rays, occluded, total);
+    }
+
+    friend bool operator==(const StructureQueries&, const StructureQueries&) = default;
+
+private:
+    [[nodiscard]] const Structure& self() const noexcept
+    {
+        return static_cast<const Structure&>(*this);
+    }
+};
+
+}  // namespace sg

@@ -1,0 +1,92 @@
+#pragma once
+
+// Traversal kernels, part 2: the bookkeeping of one query (closest or any hit, the work
+// counters) and the mailbox of the structures that reference a triangle from several cells.
+
+#ifndef SG_KERNEL_ISA
+#error "kernel headers are included by kernels_isa.inc only"
+#endif
+
+namespace sg::kernels::SG_KERNEL_ISA {
+
+/// The state of one query: the closest hit so far (or, with any_hit, whether one was found),
+/// the window [t_min, best_t] the next triangle is tested over, and the work counters when
+/// `counting` (a separate instantiation, so that the fast path carries no counting code).
+template <bool any_hit, bool counting>
+class HitSearch {
+public:
+    HitSearch(float t_min, float t_max, TraversalCounters* counters) noexcept
+        : t_min_(t_min), best_t_(t_max), counters_(counters)
+    {
+    }
+
+    [[nodiscard]] float t_min() const noexcept { return t_min_; }
+    /// t_max of the ray until a hit is found, then the closest hit's t.
+    [[nodiscard]] float best_t() const noexcept { return best_t_; }
+    [[nodiscard]] bool found() const noexcept { return found_; }
+    /// True once an any-hit query may stop.
+    [[nodiscard]] bool done() const noexcept { return any_hit && found_; }
+    [[nodiscard]] const Hit& hit() const noexcept { return hit_; }
+
+    /// Offers a hit of triangle `tri` at t (already known to lie in [t_min, best_t()]): kept
+    /// unless an equally close one was found first, as intersect_brute_force keeps the first
+    /// of equal hits in its order. True if kept.
+    bool offer(float t, std::uint32_t tri, float u, float v) noexcept
+    {
+        if (found_ && !(t < best_t_)) return false;
+        found_ = true;
+        best_t_ = t;
+        hit_ = Hit{t, tri, u, v};
+        return true;
+    }
+
+    void count_node() noexcept
+    {
+        if constexpr (counting) ++counters_->nodes_visited;
+    }
+    void count_cell() noexcept
+    {
+        if constexpr (counting) ++counters_->cells_visited;
+    }
+    void count_triangles(std::uint32_t n) noexcept
+    {
+        if constexpr (counting) counters_->triangles_tested += n;
+    }
+
+private:
+    float t_min_;
+    float best_t_;
+    bool found_ = false;
+    Hit hit_;
+    TraversalCounters* counters_;
+};
+
+/// The triangles one query has tested, for structures that reference a triangle from several
+/// cells (Amanatides and Woo 1987): a triangle met again is skipped, since its answer cannot
+/// change (the window only shrinks). Direct-mapped on the id's low bits, so a look-up is one
+/// load and one compare; a collision forgets the older triangle, which is then tested again
+/// (correct, only slower). Neighbouring cells share triangles with nearby ids, which the low
+/// bits tell apart. Lives on the query's stack: concurrent queries share nothing.
+class Mailbox {
+public:
+    Mailbox() noexcept { std::memset(slots_, 0xFF, sizeof slots_); }
+    /// True if `tri` was recorded and not evicted since; records it otherwise.
+    bool seen(std::uint32_t tri) noexcept
+    {
+        std::uint32_t& slot = slots_[tri & (size - 1)];
+        if (slot == tri) return true;
+        slot = tri;
+        return false;
+    }
+
+private:
+    static constexpr std::uint32_t size = 32;
+    std::uint32_t slots_[size];
+};
+
+/// Stands in for a Mailbox in structures that reference every triangle once (the BVH).
+struct NoMailbox {
+    static constexpr bool seen(std::uint32_t) noexcept { return false; }
+};
+
+}  // namespace sg::kernels::SG_KERNEL_ISA

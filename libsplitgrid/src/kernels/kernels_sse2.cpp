@@ -1,0 +1,11 @@
+// The traversal kernels for the x86-64 baseline (SSE2), and for any other processor: the
+// fallback every machine can run.
+#include "kernel_deps.hpp"
+
+// The 8-wide vectors of simd.hpp are passed between inline functions of this file only, so
+// GCC's note that their calling convention differs from AVX code concerns no interface.
+#pragma GCC diagnostic ignored "-Wpsabi"
+#define SG_KERNEL_ISA sse2
+#define SG_KERNEL_ISA_LEVEL 2
+#define SG_KERNEL_TABLE sse2_kernels
+#include "kernels_isa.inc"

@@ -1,0 +1,59 @@
+#pragma once
+
+// Traversal kernels, part 3: 8-wide float and int vectors for the batched triangle test, as
+// GCC vector extensions, so that one source compiles to two SSE2 halves, one AVX2 register or
+// AVX-512 mask operations by the target region it is included in. Only the loads from the
+// mesh (gathers) and the lane mask differ by instruction set.
+
+#ifndef SG_KERNEL_ISA
+#error "kernel headers are included by kernels_isa.inc only"
+#endif
+
+namespace sg::kernels::SG_KERNEL_ISA {
+
+inline constexpr int lanes = 8;
+typedef float vfloat __attribute__((vector_size(32)));
+typedef std::int32_t vint __attribute__((vector_size(32)));
+
+/// x in every lane (bit for bit: -0 stays -0).
+[[nodiscard]] inline vfloat splat(float x) noexcept { return vfloat{x, x, x, x, x, x, x, x}; }
+/// |x| lane by lane, as std::abs (the sign bit cleared).
+[[nodiscard]] inline vfloat abs(vfloat x) noexcept { return (vfloat)((vint)x & 0x7FFFFFFF); }
+
+/// Bit l set where lane l of `mask` (a comparison result: 0 or -1 per lane) is set.
+[[nodiscard]] inline std::uint32_t lane_bits(vint mask) noexcept
+{
+#if SG_KERNEL_ISA_LEVEL >= 3
+    return static_cast<std::uint32_t>(_mm256_movemask_ps(_mm256_castsi256_ps(__m256i(mask))));
+#else
+    __m128i lo, hi;
+    std::memcpy(&lo, &mask, 16);
+    std::memcpy(&hi, reinterpret_cast<const char*>(&mask) + 16, 16);
+    return static_cast<std::uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(lo))) |
+           (static_cast<std::uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(hi))) << 4);
+#endif
+}
+
+/// base[index[l]] for each lane (the indices of unused lanes must still be valid).
+[[nodiscard]] inline vfloat gather(const float* base, vint index) noexcept
+{
+#if SG_KERNEL_ISA_LEVEL >= 3
+    return vfloat(_mm256_i32gather_ps(base, __m256i(index), 4));
+#else
+    vfloat v;
+    for (int l = 0; l < lanes; ++l) v[l] = base[index[l]];
+    return v;
+#endif
+}
+[[nodiscard]] inline vint gather(const std::int32_t* base, vint index) noexcept
+{
+#if SG_KERNEL_ISA_LEVEL >= 3
+    return vint(_mm256_i32gather_epi32(base, __m256i(index), 4));
+#else
+    vint v;
+    for (int l = 0; l < lanes; ++l) v[l] = base[index[l]];
+    return v;
+#endif
+}
+
+}  // namespace sg::kernels::SG_KERNEL_ISA

@@ -1,0 +1,153 @@
+#pragma once
+
+// Traversal kernels, part 5: the Split Grid's traversal (docs/SPLIT_GRID.md, "Traversal").
+
+#ifndef SG_KERNEL_ISA
+#error "kernel headers are included by kernels_isa.inc only"
+#endif
+
+namespace sg::kernels::SG_KERNEL_ISA {
+
+/// 1 / n for a node's resolution: a table up to 64 cells (every default build), a division
+/// beyond. The traverser needs the cell width only within the crossing allowance, so this
+/// product replaces the builder's exact (hi - lo) / n (docs/SPLIT_GRID.md).
+[[nodiscard]] inline float reciprocal_resolution(std::uint32_t n) noexcept
+{
+    static constexpr std::array<float, 65> table = [] {
+        std::array<float, 65> t{};
+        for (std::size_t i = 1; i < t.size(); ++i) t[i] = 1.0f / static_cast<float>(i);
+        return t;
+    }();
+    return n < table.size() ? table[n] : 1.0f / static_cast<float>(n);
+}
+
+/// A node whose cells are being walked (kept on the stack while a child is visited). The
+/// ray parameter of the node's k-th cell boundary is t_lo + k * dt (dt < 0 for a ray going
+/// down the axis); cells are visited from `cell` in steps of `step` until `end`.
+struct GridCursor {
+    float t_lo;
+    float dt;
+    float enter;  ///< widened entry of `cell` (for the first one, the node's own entry)
+    float t1;     ///< the ray's exit from the node's slab, widened
+    float pad;    ///< the crossing allowance of the node's axis
+    std::int32_t cell;
+    std::int32_t end;
+    std::int32_t step;
+    std::uint32_t first_cell;
+};
+
+/// Max stack depth: one cursor per ancestor of the deepest node (check_invariants bounds
+/// the depth by max_supported_depth).
+inline constexpr std::size_t grid_stack_size = max_supported_depth + 1;
+
+/// Walks the Split Grid front to back for `ray`, testing leaves with `test` and keeping the
+/// result in `search`. Per node entry: one slab clip (two crossings), the entry cell from one
+/// division, no correction loop; per cell: one crossing (a multiply and an add) and two
+/// compares (instruction counts per ray: docs/BENCH.md).
+template <TriangleTest test, class Search>
+inline void walk_split_grid(const SplitGrid& grid, const MeshArrays& mesh, const KernelRay& ray,
+                            Search& search) noexcept
+{
+    float t0 = ray.t_min;
+    float t1 = ray.t_max;
+    if (grid.root.is_empty() || !ray.clip_box(grid.root_box, t0, t1)) return;
+    Mailbox mailbox;
+    const TriangleRef* const refs = grid.triangle_refs.data();
+    auto test_leaf_cell = [&](CellRef cell) {
+        const TriangleRef* ref = refs + cell.first_ref();
+        bool is_last = false;
+        return test_leaf<test>(
+            ray, mesh, search, mailbox,
+            [&] {
+                const TriangleRef r = *ref++;
+                is_last = r.is_last();
+                return r.triangle();
+            },
+            [&] { return is_last; });
+    };
+    if (grid.root.is_leaf()) {
+        (void)test_leaf_cell(grid.root);
+        return;
+    }
+
+    std::array<GridCursor, grid_stack_size> stack;  // not zeroed: only [0, sp) is ever read
+    std::size_t sp = 0;
+    // Clips [t0, t1] to the node's slab and pushes a cursor at the first cell the ray may be
+    // in. A full stack (ruled out by check_invariants) drops the node rather than overflow.
+    auto enter_node = [&](std::uint32_t index, float n0, float n1) {
+        search.count_node();
+        const GridNode node = grid.nodes[index];
+        const int axis = node.axis();
+        const std::uint32_t n = node.resolution();
+        SG_ASSERT(sp < grid_stack_size);
+        if (sp >= grid_stack_size) return;
+        if (ray.parallel[axis]) {
+            // Parallel to the axis: the ray stays in the cell of its origin (the lowest one if
+            // the origin lies on a boundary: triangles there are referenced by both cells).
+            const float o = ray.origin[axis];
+            if (!(o >= node.lo && o <= node.hi)) return;
+            const auto cell = static_cast<std::int32_t>(CellMath(node.lo, node.hi, n).locate_lowest(o));
+            stack[sp++] = GridCursor{std::numeric_limits<float>::infinity(), 0.0f, n0, n1, 0.0f,
+                                     cell, cell + 1, 1, node.first_cell()};
+            return;
+        }
+        const float pad = ray.pad[axis];
+        const float t_lo = ray.crossing(axis, node.lo);
+        const float t_hi = ray.crossing(axis, node.hi);
+        n0 = std::max(n0, std::min(t_lo, t_hi) - pad);
+        n1 = std::min(n1, std::max(t_lo, t_hi) + pad);
+        if (!(n0 <= n1)) return;
+        const bool up = !ray.negative[axis];
+        const std::int32_t end = up ? static_cast<std::int32_t>(n) : -1;
+        const std::int32_t step = up ? 1 : -1;
+        if (ray.extreme) {
+            // Crossings near FLT_MAX: every cell, in ray order, over the node's whole interval.
+            // A NaN t_lo makes every extrapolated crossing NaN, which the walk's std::min and
+            // std::max drop (they keep their first operand), so no cell interval shrinks.
+            const std::int32_t first = up ? 0 : static_cast<std::int32_t>(n) - 1;
+            stack[sp++] = GridCursor{std::numeric_limits<float>::quiet_NaN(), 0.0f, n0, n1, pad,
+                                     first, end, step, node.first_cell()};
+            return;
+        }
+        const float dt = (node.hi - node.lo) * reciprocal_resolution(n) * ray.inv[axis];
+        // The first cell in ray order whose widened interval may reach n0: position of the
+        // parameter n0 - pad in cell units, rounded down (it is a lower bound going up the
+        // axis and, dt being negative, an upper bound going down). A flat node (dt = 0) gives
+        // +-infinity, clamped to its first cell in ray order, or NaN, taken as that cell too.
+        const float last = static_cast<float>(n - 1);
+        float x = (n0 - pad - t_lo) / dt;
+        if (x != x) x = up ? 0.0f : last;
+        const auto cell = static_cast<std::int32_t>(x > 0.0f ? (x < last ? x : last) : 0.0f);
+        stack[sp++] = GridCursor{t_lo, dt, n0, n1, pad, cell, end, step, node.first_cell()};
+    };
+
+    enter_node(grid.root.child(), t0, t1);
+    while (sp > 0) {
+        GridCursor& c = stack[sp - 1];
+        // Cells are in ray order: once one starts past the closest hit so far (or past the
+        // node), so do all after it.
+        if (c.cell == c.end || c.enter > std::min(c.t1, search.best_t())) {
+            --sp;
+            continue;
+        }
+        const std::int32_t exit_boundary = c.step > 0 ? c.cell + 1 : c.cell;
+        const float t_exit = c.t_lo + static_cast<float>(exit_boundary) * c.dt;
+        const float c0 = c.enter;
+        // Operand order matters for extreme rays (t_exit NaN): std::min and std::max return
+        // their first operand when the second is NaN.
+        const float c1 = std::min(c.t1, t_exit + c.pad);
+        // The plane this cell is left through is the plane the next one is entered through.
+        c.enter = std::max(c.enter, t_exit - c.pad);
+        const CellRef cell = grid.cells[c.first_cell + static_cast<std::uint32_t>(c.cell)];
+        c.cell += c.step;
+        search.count_cell();
+        if (cell.is_empty() || c0 > c1) continue;
+        if (cell.is_leaf()) {
+            if (test_leaf_cell(cell) && search.done()) return;
+            continue;
+        }
+        enter_node(cell.child(), c0, c1);
+    }
+}
+
+}  // namespace sg::kernels::SG_KERNEL_ISA

@@ -1,0 +1,168 @@
+#pragma once
+
+// Traversal kernels, part 4: the triangle tests every structure's leaves call. One triangle at
+// a time (TriangleTest::moller_trumbore, and the rare watertight lanes whose edge functions
+// need double precision), or up to eight at once with the watertight test, which computes
+// for each lane exactly what intersect_triangle computes: the same operations in the same
+// order (no FMA contraction), so the batched and the one-at-a-time test return bit-identical
+// t, u and v, and every instruction set returns the same hits.
+
+#ifndef SG_KERNEL_ISA
+#error "kernel headers are included by kernels_isa.inc only"
+#endif
+
+namespace sg::kernels::SG_KERNEL_ISA {
+
+/// The mesh as the batched test reads it: vertex coordinates and corner indices as flat
+/// arrays (Vec3f and Triangle are packed, static_asserts in vec3.hpp and mesh.hpp).
+struct MeshArrays {
+    MeshView view;
+    const float* coords;
+    const std::int32_t* corners;
+    /// False for meshes whose 3 * id or 3 * vertex index does not fit the gathers' signed
+    /// 32-bit offsets (over 715 million triangles or vertices): they are tested one by one.
+    bool batchable;
+
+    explicit MeshArrays(const MeshView& mesh) noexcept
+        : view(mesh), coords(reinterpret_cast<const float*>(mesh.vertices.data())),
+          corners(reinterpret_cast<const std::int32_t*>(mesh.triangles.data())),
+          batchable(mesh.triangles.size() < max_batchable && mesh.vertices.size() < max_batchable)
+    {
+    }
+    static constexpr std::size_t max_batchable = 0x7FFFFFFF / 3;
+};
+
+/// intersect_triangle's margin of its early out, lane by lane: |x| 2^-20 + FLT_MIN. (A
+/// function, not a lambda: GCC compiles lambdas without the target region's instruction set.)
+[[nodiscard]] inline vfloat early_out_margin(vfloat x) noexcept
+{
+    return abs(x) * splat(0x1p-20f) + splat(0x1p-126f);
+}
+
+/// One triangle with `test` over [t_min, t_max]; intersect_triangle's contract.
+template <TriangleTest test>
+[[nodiscard]] inline bool test_one(const KernelRay& ray, const MeshView& mesh, std::uint32_t tri,
+                                   float t_min, float t_max, float& t, float& u,
+                                   float& v) noexcept
+{
+    const Vec3f a = mesh.vertex(tri, 0), b = mesh.vertex(tri, 1), c = mesh.vertex(tri, 2);
+    if constexpr (test == TriangleTest::watertight)
+        return intersect_triangle(ray.shear, a, b, c, t_min, t_max, t, u, v);
+    else
+        return intersect_triangle_moller_trumbore(ray.origin_vec, ray.direction_vec, a, b, c,
+                                                  t_min, t_max, t, u, v);
+}
+
+/// Tests the triangles ids[0, n), 1 <= n <= lanes, over [search.t_min(), search.best_t()] and
+/// offers each hit to `search` in id order, so ties go to the first as in a one-by-one loop.
+/// ids must hold `lanes` entries (those past n are any valid id: their lanes are ignored).
+/// True if a hit was kept.
+template <TriangleTest test, class Search>
+inline bool test_batch(const KernelRay& ray, const MeshArrays& mesh, const std::uint32_t* ids,
+                       int n, Search& search) noexcept
+{
+    search.count_triangles(static_cast<std::uint32_t>(n));
+    bool kept = false;
+    if (test != TriangleTest::watertight || !mesh.batchable) {
+        for (int l = 0; l < n; ++l) {
+            float t, u, v;
+            if (test_one<test>(ray, mesh.view, ids[l], search.t_min(), search.best_t(), t, u, v) &&
+                search.offer(t, ids[l], u, v)) {
+                kept = true;
+                if (search.done()) return true;
+            }
+        }
+        return kept;
+    }
+
+    const WatertightRay& r = ray.shear;
+    vint id;
+    std::memcpy(&id, ids, sizeof id);
+    const vint id3 = id * 3;
+    const vint a3 = gather(mesh.corners, id3) * 3;
+    const vint b3 = gather(mesh.corners, id3 + 1) * 3;
+    const vint c3 = gather(mesh.corners, id3 + 2) * 3;
+    const float* p = mesh.coords;
+    const vfloat ox = splat(r.origin[r.kx]), oy = splat(r.origin[r.ky]), oz = splat(r.origin[r.kz]);
+    // A = a - origin, per permuted axis, as intersect_triangle forms it.
+    const vfloat Akx = gather(p, a3 + r.kx) - ox, Aky = gather(p, a3 + r.ky) - oy,
+                 Akz = gather(p, a3 + r.kz) - oz;
+    const vfloat Bkx = gather(p, b3 + r.kx) - ox, Bky = gather(p, b3 + r.ky) - oy,
+                 Bkz = gather(p, b3 + r.kz) - oz;
+    const vfloat Ckx = gather(p, c3 + r.kx) - ox, Cky = gather(p, c3 + r.ky) - oy,
+                 Ckz = gather(p, c3 + r.kz) - oz;
+    const vfloat sx = splat(r.sx), sy = splat(r.sy), sz = splat(r.sz);
+    const vfloat Ax = Akx - sx * Akz, Ay = Aky - sy * Akz;
+    const vfloat Bx = Bkx - sx * Bkz, By = Bky - sy * Bkz;
+    const vfloat Cx = Ckx - sx * Ckz, Cy = Cky - sy * Ckz;
+    const vfloat U = Cx * By - Cy * Bx;
+    const vfloat V = Ax * Cy - Ay * Cx;
+    const vfloat W = Bx * Ay - By * Ax;
+    const vfloat zero = splat(0.0f);
+    const vint lane_index = {0, 1, 2, 3, 4, 5, 6, 7};
+    const vint in_use = lane_index < n;
+    // Lanes with an edge function exactly zero take intersect_triangle's double-precision
+    // path, one by one, below.
+    const vint exact = in_use & ((U == zero) | (V == zero) | (W == zero));
+    const vint mixed = ((U < zero) | (V < zero) | (W < zero)) & ((U > zero) | (V > zero) | (W > zero));
+    const vfloat det = U + V + W;
+    const vfloat Az = sz * Akz, Bz = sz * Bkz, Cz = sz * Ckz;
+    const vfloat T = U * Az + V * Bz + W * Cz;
+    // intersect_triangle's early out, the same comparisons lane by lane.
+    const vfloat lo = splat(search.t_min()) * det, hi = splat(search.best_t()) * det;
+    const vint positive = det > zero;
+    const vint outside = (positive & ((T < lo - early_out_margin(lo)) | (T > hi + early_out_margin(hi)))) |
+                         (~positive & ((T > lo + early_out_margin(lo)) | (T < hi - early_out_margin(hi))));
+    const vfloat inv_det = splat(1.0f) / det;
+    const vfloat t = T * inv_det;
+    const vint accept = in_use & ~exact & ~mixed & (det != zero) & ((T - T) == zero) & ~outside &
+                        (t >= splat(search.t_min())) & (t <= splat(search.best_t()));
+    std::uint32_t todo = lane_bits(accept | exact);
+    if (todo == 0) return false;
+    const std::uint32_t exact_bits = lane_bits(exact);
+    const vfloat u = V * inv_det, v = W * inv_det;
+    for (; todo != 0; todo &= todo - 1) {
+        const int l = __builtin_ctz(todo);
+        float tl = t[l], ul = u[l], vl = v[l];
+        if ((exact_bits >> l) & 1u) {
+            if (!test_one<TriangleTest::watertight>(ray, mesh.view, ids[l], search.t_min(),
+                                                    search.best_t(), tl, ul, vl))
+                continue;
+        } else if (!(tl <= search.best_t())) {
+            continue;  // a lane before this one was closer
+        }
+        if (search.offer(tl, ids[l], ul, vl)) {
+            kept = true;
+            if (search.done()) return true;
+        }
+    }
+    return kept;
+}
+
+/// Collects the triangles of one leaf that the mailbox has not seen into batches of `lanes`
+/// and tests them. `next()` returns the leaf's next triangle id, `last()` whether the one it
+/// just returned was the leaf's last. True if a hit was kept.
+template <TriangleTest test, class Search, class Box, class Next, class Last>
+inline bool test_leaf(const KernelRay& ray, const MeshArrays& mesh, Search& search, Box& mailbox,
+                      const Next& next, const Last& last) noexcept
+{
+    std::uint32_t ids[lanes];
+    int n = 0;
+    bool kept = false;
+    for (;;) {
+        const std::uint32_t tri = next();
+        const bool end = last();
+        if (!mailbox.seen(tri)) ids[n++] = tri;
+        if (n == lanes || (end && n > 0)) {
+            for (int l = n; l < lanes; ++l) ids[l] = ids[0];
+            if (test_batch<test>(ray, mesh, ids, n, search)) {
+                kept = true;
+                if (search.done()) return true;
+            }
+            n = 0;
+        }
+        if (end) return kept;
+    }
+}
+
+}  // namespace sg::kernels::SG_KERNEL_ISA
