@@ -7,6 +7,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "splitgrid/ray_generation.hpp"
 #include "splitgrid/ray_offset.hpp"
 #include "splitgrid/sampling.hpp"
 
@@ -57,12 +58,7 @@ std::vector<Workload> make_scene_workloads(const MeshView& mesh, const BenchStru
     out[3].name = "shadow";
     out[3].any_hit = true;
 
-    out[0].rays = by_rows(sizes.height, [&](int y) {
-        std::vector<Ray> row;
-        for (int x = 0; x < sizes.width; ++x)
-            row.push_back(camera.ray(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
-        return row;
-    });
+    out[0].rays = pixel_centre_rays(camera);
 
     out[1].rays = by_rows(sizes.height, [&](int y) {
         std::vector<Ray> row;
@@ -85,20 +81,9 @@ std::vector<Workload> make_scene_workloads(const MeshView& mesh, const BenchStru
         return row;
     });
 
-    const std::size_t incoherent = sizes.incoherent_rays;
-    out[2].rays.resize(incoherent);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, incoherent, 4096),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                              Rng rng(seed + 1, k);
-                              Vec3f o;
-                              for (int a = 0; a < 3; ++a)
-                                  o[a] = box.lower[a] + rng.next_float() * box.extent(a);
-                              const float u1 = rng.next_float();
-                              const float u2 = rng.next_float();
-                              out[2].rays[k] = Ray{o, uniform_sphere(u1, u2)};
-                          }
-                      });
+    // seed + 1 in 32 bits, as this workload has always been seeded.
+    out[2].rays = random_rays_in_box(box, sizes.incoherent_rays,
+                                     static_cast<std::uint32_t>(seed + 1));
 
     out[3].rays = by_rows(sizes.height, [&](int y) {
         std::vector<Ray> row;

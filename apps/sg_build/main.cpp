@@ -135,6 +135,7 @@ void build(const Options& options)
                        {"nonfinite_dropped", report.nonfinite_dropped},
                        {"degenerate_dropped", report.degenerate_dropped},
                        {"triangles_kept", triangles_kept},
+                       {"vertices_before_welding", report.vertices_before_welding},
                        {"vertices", vertex_count},
                        {"warnings", report.warnings}};
         j["build_config"] = sg::apps::to_json(options.config);
@@ -157,14 +158,16 @@ void build(const Options& options)
         "input       {}\n"
         "triangles   {} read, {} dropped ({} non-finite, {} zero-area), {} kept; "
         "{} points and {} lines skipped\n"
+        "vertices    {} before welding, {} after (bit-identical positions merged)\n"
         "grid        {} nodes, {} cells, {} references (duplication {:.2f}), max depth {}\n"
         "structure   {} ({:.1f} bytes/triangle)\n"
         "file        {} ({:.1f} bytes/triangle) {}\n"
         "time        import {:.3f} s, build {:.3f} s, write {:.3f} s\n",
         options.mesh.string(), report.triangles_read, dropped, report.nonfinite_dropped,
         report.degenerate_dropped, triangles_kept, report.points_skipped, report.lines_skipped,
-        stats.node_count, stats.cell_count, stats.reference_count, stats.duplication_factor,
-        stats.max_depth, sg::apps::human_bytes(stats.structure_bytes),
+        report.vertices_before_welding, vertex_count, stats.node_count, stats.cell_count,
+        stats.reference_count, stats.duplication_factor, stats.max_depth,
+        sg::apps::human_bytes(stats.structure_bytes),
         stats.structure_bytes_per_triangle, sg::apps::human_bytes(file_bytes),
         sg::apps::per_triangle(file_bytes, triangles_kept), options.output.string(),
         import_seconds, build_seconds, write_seconds);

@@ -2,19 +2,15 @@
 /// ambient occlusion, a diffuse path tracer, or a heat map of the traversal cost per pixel.
 /// Prints a summary (or one JSON object with --json) on stdout.
 
-#include <charconv>
-#include <cmath>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
-#include <optional>
 #include <string>
-#include <system_error>
 
+#include "camera_flags.hpp"
 #include "cli_common.hpp"
 #include "splitgrid/camera.hpp"
-#include "splitgrid/error.hpp"
 #include "splitgrid/formats/sg_file.hpp"
 #include "splitgrid/version.hpp"
 #include "splitgrid/viz/image.hpp"
@@ -37,81 +33,10 @@ struct Options {
     fs::path output;
     std::string mode = "shaded";
     sg::RenderSettings settings;
-    std::optional<sg::Vec3f> eye;
-    std::optional<sg::Vec3f> look_at;
-    sg::Vec3f up{0.0f, 1.0f, 0.0f};
-    float fov = 45.0f;
+    sg::apps::CameraFlags camera;
     bool json = false;
     sg::apps::LogOptions log;
 };
-
-/// "x,y,z" with three finite numbers, or nothing.
-std::optional<sg::Vec3f> parse_vec3(const std::string& text)
-{
-    sg::Vec3f v;
-    const char* p = text.data();
-    const char* end = text.data() + text.size();
-    for (int axis = 0; axis < 3; ++axis) {
-        const auto [next, ec] = std::from_chars(p, end, v[axis]);
-        if (ec != std::errc{} || !std::isfinite(v[axis])) return std::nullopt;
-        p = next;
-        if (axis < 2) {
-            if (p == end || *p != ',') return std::nullopt;
-            ++p;
-        }
-    }
-    if (p != end) return std::nullopt;
-    return v;
-}
-
-/// Adds a "x,y,z" option whose value lands in `target`.
-CLI::Option* add_vec3_option(CLI::App& app, const std::string& name,
-                             std::optional<sg::Vec3f>& target, const std::string& description)
-{
-    return app
-        .add_option_function<std::string>(
-            name,
-            [&target](const std::string& text) { target = parse_vec3(text); },
-            description)
-        ->type_name("X,Y,Z")
-        ->check(CLI::Validator(
-            [](std::string& text) -> std::string {
-                return parse_vec3(text) ? std::string{}
-                                        : text + " is not three finite numbers x,y,z";
-            },
-            "", ""));
-}
-
-std::string format_vec3(sg::Vec3f v) { return fmt::format("{},{},{}", v.x, v.y, v.z); }
-
-/// The camera the flags ask for, completed by automatic framing where they are silent.
-/// A camera that cannot form an image is a usage error, like any other bad flag value.
-sg::Camera choose_camera(const Options& options, const sg::MeshView& mesh, bool& automatic)
-{
-    const float aspect =
-        static_cast<float>(options.settings.width) / static_cast<float>(options.settings.height);
-    sg::Camera camera = sg::frame_box(sg::bounds(mesh), aspect, options.fov);
-    automatic = !options.eye || !options.look_at;
-    if (options.eye) camera.eye = *options.eye;
-    if (options.look_at) camera.look_at = *options.look_at;
-    camera.up = options.up;
-    camera.fov_y_degrees = options.fov;
-    try {
-        sg::validate(camera);
-    } catch (const sg::ConfigError& e) {
-        throw CLI::ValidationError("--eye/--look-at/--up/--fov", e.what());
-    }
-    return camera;
-}
-
-Json camera_json(const sg::Camera& camera, bool automatic)
-{
-    return {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
-            {"look_at", {camera.look_at.x, camera.look_at.y, camera.look_at.z}},
-            {"up", {camera.up.x, camera.up.y, camera.up.z}},
-            {"fov_y_degrees", camera.fov_y_degrees},
-            {"automatic", automatic}};
-}
 
 Json legend_json(const sg::HeatLegend& legend)
 {
@@ -148,7 +73,7 @@ void print_json(const Options& options, const sg::RenderResult& result, const sg
     j["ao_samples"] = s.ao_samples;
     j["ao_distance"] = s.ao_distance;
     j["bounces"] = s.bounces;
-    j["camera"] = camera_json(camera, automatic_camera);
+    j["camera"] = sg::apps::camera_json(camera, automatic_camera);
     j["threads"] = stats.threads;
     j["rays"] = {{"primary", stats.primary_rays},
                  {"secondary", stats.secondary_rays},
@@ -175,15 +100,14 @@ void print_summary(const Options& options, const sg::RenderResult& result,
     const sg::RenderStats& stats = result.stats;
     std::cout << fmt::format(
         "image       {} ({}x{} {}, {}, {})\n"
-        "camera      --eye {} --look-at {} --up {} --fov {}{}\n"
+        "camera      {}{}\n"
         "rays        {} primary ({} per pixel) + {} secondary in {:.3f} s on {} thread{}: "
         "{:.2f} Mrays/s\n"
         "primary     {:.1f}% hit; per ray: cells visited mean {:.1f} max {}, triangles tested "
         "mean {:.1f} max {}, nodes visited mean {:.1f} max {}\n",
         options.output.string(), s.width, s.height, sg::to_string(s.mode),
         sg::format_name(*sg::image_format_for(options.output)), sg::apps::human_bytes(image_bytes),
-        format_vec3(camera.eye), format_vec3(camera.look_at), format_vec3(camera.up),
-        camera.fov_y_degrees, automatic_camera ? " (automatic framing)" : "",
+        sg::apps::camera_as_flags(camera), automatic_camera ? " (automatic framing)" : "",
         stats.primary_rays, s.samples_per_pixel, stats.secondary_rays, stats.seconds,
         stats.threads, stats.threads == 1 ? "" : "s", stats.mrays_per_second(),
         100.0 * stats.primary_hit_fraction(),
@@ -215,7 +139,9 @@ void render(Options& options)
                   contents.grid.nodes.size());
 
     bool automatic_camera = false;
-    options.settings.camera = choose_camera(options, mesh, automatic_camera);
+    options.settings.camera =
+        sg::apps::choose_camera(options.camera, mesh, options.settings.width,
+                                options.settings.height, automatic_camera);
     const sg::RenderResult result =
         sg::render(contents.grid, mesh, options.settings,
                    sg::apps::ProgressLog("rendering", "pixels done", Clock::now()));
@@ -257,8 +183,9 @@ int main(int argc, char** argv)
         "                  up to --bounces reflections (the paper's workload: 3), sRGB\n"
         "  heat-cells      cells visited by each pixel's primary ray, with a colour legend\n"
         "  heat-triangles  triangles tested by each pixel's primary ray, with a legend\n"
-        "Without --eye and --look-at the camera frames the whole scene from above and to the\n"
-        "side (+y up); the summary prints the camera flags it used, to adjust from.\n"
+        "Without --eye and --look-at the camera frames the scene so that it fills the image,\n"
+        "seen from above and to the side with --up up (default +y: give --up 0,0,1 for a\n"
+        "z-up scene); the summary prints the camera flags it used, to adjust from.\n"
         "The image is written atomically: on failure no output file is left behind.");
     app.add_option("FILE", options.file, "The .sg file (from sg-build)")->required();
     app.add_option("-o,--output", options.output,
@@ -290,17 +217,7 @@ int main(int argc, char** argv)
                                    "noise). Range [1, 65536]. Default 1, {} in path mode.",
                                    path_default_spp))
             ->check(sg::apps::uint_in(1, 65536));
-    add_vec3_option(app, "--eye", options.eye,
-                    "Camera position. Default: automatic framing (see below).");
-    add_vec3_option(app, "--look-at", options.look_at,
-                    "Point at the image centre. Default: the centre of the scene's box.");
-    std::optional<sg::Vec3f> up;
-    add_vec3_option(app, "--up", up,
-                    "Direction that points up in the image; must not be parallel to the view. "
-                    "Default 0,1,0.");
-    app.add_option("--fov", options.fov,
-                   "Vertical field of view in degrees. Range (0, 180). Default 45.")
-        ->check(sg::apps::number_in(0.0, 180.0, true));
+    sg::apps::add_camera_flags(app, options.camera);
     app.add_option("--threads", s.threads,
                    fmt::format("Worker threads, 0 = all hardware threads; the image is the same "
                                "for every value. Range [0, {}]. Default 0.",
@@ -337,15 +254,8 @@ int main(int argc, char** argv)
         s.mode = *sg::parse_render_mode(options.mode);
         if (s.mode == sg::RenderMode::path && spp->count() == 0)
             s.samples_per_pixel = path_default_spp;
-        if (up) options.up = *up;
         // A camera given in full is checked before the .sg file is read.
-        if (options.eye && options.look_at) {
-            try {
-                sg::validate(sg::Camera{*options.eye, *options.look_at, options.up, options.fov});
-            } catch (const sg::ConfigError& e) {
-                throw CLI::ValidationError("--eye/--look-at/--up/--fov", e.what());
-            }
-        }
+        sg::apps::check_full_camera(options.camera);
     });
     return sg::apps::run_tool(app, argc, argv, options.log, [&] { render(options); });
 }

@@ -111,7 +111,7 @@ void print_text(const Options& options, const Report& r)
         c.no_progress_fraction, c.min_cell_width, c.stop_by_cost ? "on" : "off",
         c.bounding_planes ? "on" : "off", c.clip_triangles ? "on" : "off", c.threads);
 
-    out += fmt::format("\nmesh            {} vertices, {} triangles\n",
+    out += fmt::format("\nmesh            {} vertices stored, {} triangles\n",
                        r.contents.mesh.vertices.size(), triangles);
     out += fmt::format("grid            {} nodes, {} cells ({} empty, {} leaf, {} inner)\n",
                        s.node_count, s.cell_count, s.empty_cells, s.leaf_cells, s.inner_cells);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli_common.hpp"
+#include "splitgrid/error.hpp"
 #include "splitgrid/formats/ray_file.hpp"
 #include "splitgrid/formats/sg_file.hpp"
 #include "splitgrid/traverse.hpp"
@@ -38,6 +39,7 @@ struct Options {
     fs::path rays;
     fs::path out;
     bool any_hit = false;
+    bool strict = false;
     std::uint32_t threads = 0;
     bool json = false;
     sg::apps::LogOptions log;
@@ -55,6 +57,26 @@ sg::Hit any_hit_record(bool is_occluded)
     return hit;
 }
 
+/// Counts the invalid rays. They are the ray generator's fault, not the file's: by default
+/// they are traced as misses (as every query answers them) with a warning, so that a wrong
+/// generator does not pass for an empty scene; --strict refuses the file instead.
+std::size_t check_invalid_rays(const Options& options, const std::vector<sg::Ray>& rays)
+{
+    const auto is_invalid = [](const sg::Ray& ray) { return !sg::is_valid(ray); };
+    const auto invalid = static_cast<std::size_t>(std::count_if(rays.begin(), rays.end(),
+                                                                is_invalid));
+    if (invalid == 0) return 0;
+    const auto first = std::find_if(rays.begin(), rays.end(), is_invalid) - rays.begin();
+    const std::string what = fmt::format("{}: {} of {} rays are invalid ({}; the first is ray {})",
+                                         options.rays.string(), invalid, rays.size(),
+                                         sg::invalid_ray_description, first);
+    if (options.strict) throw sg::InputError(what + ": refused by --strict");
+    spdlog::warn("{}: the file is well formed, the rays are not; they are written as misses "
+                 "(--strict refuses such a file)",
+                 what);
+    return invalid;
+}
+
 void trace(const Options& options)
 {
     sg::apps::check_output_path(options.out);
@@ -62,6 +84,7 @@ void trace(const Options& options)
     const std::vector<sg::Ray> rays = sg::read_ray_file(options.rays);
     spdlog::debug("{}: {} triangles; {}: {} rays", options.file.string(),
                   contents.mesh.triangles.size(), options.rays.string(), rays.size());
+    const std::size_t invalid_rays = check_invalid_rays(options, rays);
 
     const sg::SplitGrid& grid = contents.grid;
     const sg::MeshView mesh = contents.mesh.view();
@@ -98,20 +121,21 @@ void trace(const Options& options)
         j["threads"] = threads;
         j["ray_count"] = rays.size();
         j["hit_count"] = hit_count;
+        j["invalid_rays"] = invalid_rays;
         j["seconds"] = seconds;
         j["rays_per_second"] = rays_per_second;
         std::cout << j.dump(2) << '\n';
         return;
     }
     std::cout << fmt::format("traced {} rays ({}) on {} thread{} in {:.3f} s: {:.0f} rays/s; "
-                             "{} hits ({:.1f}%) written to {}\n",
+                             "{} hits ({:.1f}%), {} invalid rays, written to {}\n",
                              rays.size(), options.any_hit ? "any hit" : "closest hit", threads,
                              threads == 1 ? "" : "s",
                              seconds, rays_per_second, hit_count,
                              rays.empty() ? 0.0
                                           : 100.0 * static_cast<double>(hit_count) /
                                                 static_cast<double>(rays.size()),
-                             options.out.string());
+                             invalid_rays, options.out.string());
 }
 
 }  // namespace
@@ -128,12 +152,18 @@ int main(int argc, char** argv)
         "of the .sg file), distance t and barycentrics u, v of the nearest hit in\n"
         "[t_min, t_max]. On a miss t is the ray's t_max.\n"
         "--any-hit: triangle id 0 if anything is hit in [t_min, t_max], 0xFFFFFFFF if not;\n"
-        "t, u, v are 0.");
+        "t, u, v are 0.\n"
+        "Invalid rays (NaN or infinite origin or direction, zero direction, NaN or infinite\n"
+        "t_min, NaN t_max, t_min > t_max) are written as misses (t = the ray's t_max) with a\n"
+        "warning that counts them; --strict refuses such a file instead (exit code 2).");
     app.add_option("FILE", options.file, "The .sg file")->required();
     app.add_option("--rays", options.rays, "Input ray file (SGRAY001)")->required();
     app.add_option("--out", options.out, "Output hit file (SGHIT001), written atomically")
         ->required();
     app.add_flag("--any-hit", options.any_hit, "Occlusion queries instead of closest hits");
+    app.add_flag("--strict", options.strict,
+                 "Refuse a ray file with invalid rays (exit code 2, no hit file written) "
+                 "instead of tracing them as misses with a warning");
     app.add_option("--threads", options.threads,
                    fmt::format("Worker threads, 0 = all hardware threads. Range [0, {}]. "
                                "Default 0.",

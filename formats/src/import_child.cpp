@@ -116,7 +116,7 @@ void encode_mesh(WireWriter& out, const ImportedMesh& imported)
     const ImportReport& r = imported.report;
     for (const std::size_t n : {r.meshes, r.faces_read, r.triangles_read, r.points_skipped,
                                 r.lines_skipped, r.nonfinite_dropped, r.degenerate_dropped,
-                                r.vertices})
+                                r.vertices_before_welding, r.vertices})
         out.u64(n);
     out.u64(r.warnings.size());
     for (const std::string& w : r.warnings) out.text(w);
@@ -129,7 +129,7 @@ bool decode_mesh(WireReader& in, ImportedMesh& imported)
     ImportReport& r = imported.report;
     for (std::size_t* n : {&r.meshes, &r.faces_read, &r.triangles_read, &r.points_skipped,
                            &r.lines_skipped, &r.nonfinite_dropped, &r.degenerate_dropped,
-                           &r.vertices}) {
+                           &r.vertices_before_welding, &r.vertices}) {
         std::uint64_t value = 0;
         if (!in.u64(value)) return false;
         *n = static_cast<std::size_t>(value);

@@ -14,6 +14,7 @@
 
 #include "assimp_guards.hpp"
 #include "splitgrid/error.hpp"
+#include "splitgrid/formats/vertex_weld.hpp"
 
 namespace sg {
 namespace {
@@ -21,15 +22,16 @@ namespace {
 /// Post-processing applied after the file is read:
 /// - Triangulate: polygons become triangles; points and lines stay as 1- and 2-index faces,
 ///   which we count as skipped.
-/// - JoinIdenticalVertices: formats such as STL store three vertices per triangle; sharing
-///   them makes the vertex array (and the .sg file) about six times smaller.
 /// - PreTransformVertices: bakes every node transform (and instancing) into the vertices,
 ///   so the mesh is in scene space.
 /// - SortByPType: one primitive type per mesh, so mPrimitiveTypes is meaningful.
-/// FindDegenerates is deliberately off: it would turn zero-area triangles into lines or
+/// JoinIdenticalVertices is deliberately off: it merges positions within four units in the
+/// last place (so it moves vertices) and keeps corners apart whose normals or texture
+/// coordinates differ; weld_identical_vertices() merges exactly the bit-identical positions
+/// instead. FindDegenerates is off too: it would turn zero-area triangles into lines or
 /// points (or delete them) without telling us, and clean_mesh counts them instead.
-constexpr unsigned post_processing = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                                     aiProcess_PreTransformVertices | aiProcess_SortByPType;
+constexpr unsigned post_processing =
+    aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
 
 /// The warning heuristic: a real surface mesh has about two triangles per vertex, so fewer
 /// than one triangle per this many vertices means most of the file was not read.
@@ -75,25 +77,6 @@ void append_mesh(const aiMesh& in, Mesh& out, ImportReport& report)
         out.vertices.push_back(
             Vec3f{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
     }
-}
-
-/// Removes vertices no triangle references (those of dropped triangles), keeping the order
-/// of the rest, so the vertex count describes the surface that will be built.
-void drop_unreferenced_vertices(Mesh& mesh)
-{
-    constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
-    std::vector<std::uint32_t> new_index(mesh.vertices.size(), unused);
-    for (const Triangle& t : mesh.triangles)
-        for (const std::uint32_t v : t.v) new_index[v] = 0;
-    std::uint32_t next = 0;
-    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-        if (new_index[v] == unused) continue;
-        new_index[v] = next;
-        mesh.vertices[next++] = mesh.vertices[v];
-    }
-    mesh.vertices.resize(next);
-    for (Triangle& t : mesh.triangles)
-        for (std::uint32_t& v : t.v) v = new_index[v];
 }
 
 /// Rethrows Assimp's std::bad_alloc, which it would otherwise report as a parse error: running
@@ -163,8 +146,11 @@ ImportedMesh import_mesh_in_process(const std::filesystem::path& path)
     if (cleaned.bad_index_triangles > 0)
         report.warnings.push_back(std::to_string(cleaned.bad_index_triangles) +
                                   " triangles with a vertex index out of range were dropped");
-    drop_unreferenced_vertices(result.mesh);
-    report.vertices = result.mesh.vertices.size();
+    // After clean_mesh, so which triangles are dropped does not depend on the welding (it
+    // changes no position), and no non-finite vertex is left to weld.
+    const WeldReport welded = weld_identical_vertices(result.mesh);
+    report.vertices_before_welding = welded.vertices_before;
+    report.vertices = welded.vertices_after;
 
     const std::size_t triangles = result.mesh.triangles.size();
     if (triangles == 0)

@@ -15,7 +15,8 @@
 namespace sg::test {
 namespace {
 
-const std::vector<std::string> all_tools = {SG_BUILD_EXE, SG_STATS_EXE, SG_TRACE_EXE};
+const std::vector<std::string> all_tools = {SG_BUILD_EXE, SG_STATS_EXE, SG_TRACE_EXE,
+                                            SG_RAYS_EXE};
 
 TEST(ToolsCli, HelpExitsZeroAndDocumentsExitCodes)
 {
@@ -50,6 +51,7 @@ TEST(ToolsCli, UnknownFlagIsUsageError)
         {SG_BUILD_EXE, {"mesh.obj", "-o", "x.sg"}},
         {SG_STATS_EXE, {"x.sg"}},
         {SG_TRACE_EXE, {"x.sg", "--rays", "r.bin", "--out", "h.bin"}},
+        {SG_RAYS_EXE, {"text", "r.csv", "-o", "r.bin"}},
     };
     for (const auto& [tool, required] : commands) {
         SCOPED_TRACE(tool);

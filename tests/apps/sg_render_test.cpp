@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "app_test_support.hpp"
+#include "splitgrid/builder.hpp"
+#include "splitgrid/formats/sg_file.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -211,6 +213,74 @@ TEST_F(SgRender, HelpListsModesAndExitCodes)
         EXPECT_NE(run.out.find(text), std::string::npos) << text;
 }
 
+/// Rows and columns of the pixels unlike the top-left one: the scene's outline in the image.
+struct Outline {
+    int width = 0;
+    int height = 0;
+};
+Outline outline_of(const ReadBack& image)
+{
+    const auto n = static_cast<std::size_t>(image.components);
+    int x_lo = image.width, x_hi = -1, y_lo = image.height, y_hi = -1;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const std::size_t i =
+                (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) +
+                 static_cast<std::size_t>(x)) *
+                n;
+            const auto first = image.bytes.begin();
+            if (std::equal(first, first + static_cast<std::ptrdiff_t>(n),
+                           first + static_cast<std::ptrdiff_t>(i)))
+                continue;
+            x_lo = std::min(x_lo, x);
+            x_hi = std::max(x_hi, x);
+            y_lo = std::min(y_lo, y);
+            y_hi = std::max(y_hi, y);
+        }
+    return x_hi < 0 ? Outline{} : Outline{x_hi - x_lo + 1, y_hi - y_lo + 1};
+}
+
+TEST(SgRenderFraming, AutomaticFramingHonoursUpAndFillsTheImage)
+{
+    // A pillar standing on the z = 0 plane of a z-up scene: 1 x 1 wide, 6 tall along z.
+    ScratchDir scratch;
+    Mesh pillar;
+    for (int corner = 0; corner < 8; ++corner)
+        pillar.vertices.push_back({float(corner & 1), float((corner >> 1) & 1),
+                                   6.0f * float((corner >> 2) & 1)});
+    pillar.triangles = {{{0, 2, 1}}, {{1, 2, 3}}, {{4, 5, 6}}, {{5, 7, 6}}, {{0, 1, 4}},
+                        {{1, 5, 4}}, {{2, 6, 3}}, {{3, 6, 7}}, {{0, 4, 2}}, {{2, 4, 6}},
+                        {{1, 3, 5}}, {{3, 7, 5}}};
+    const fs::path sg_file = scratch / "pillar.sg";
+    write_sg_file(sg_file, SgContents{pillar, build_split_grid(pillar.view(), BuildConfig{}),
+                                      "pillar"});
+
+    const auto render = [&](const std::string& name, std::vector<std::string> extra) {
+        std::vector<std::string> args = {sg_file.string(), "-o", (scratch / name).string(),
+                                         "--width", "160", "--height", "120", "--json"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        const ToolRun run = run_tool(SG_RENDER_EXE, args, scratch);
+        EXPECT_EQ(run.exit_code, 0) << describe(run);
+        return run;
+    };
+    const ToolRun z_up = render("z_up.png", {"--up", "0,0,1"});
+    const json camera = json::parse(z_up.out).at("camera");
+    EXPECT_EQ(camera.at("up"), json::parse("[0.0, 0.0, 1.0]"));
+    EXPECT_EQ(camera.at("automatic"), true);
+    EXPECT_GT(camera.at("eye")[2].get<double>(), camera.at("look_at")[2].get<double>())
+        << "seen from above the ground plane";
+
+    const Outline upright = outline_of(read_png(scratch / "z_up.png"));
+    EXPECT_GE(upright.height, 108) << "the pillar fills the image's height (95% of 120)";
+    EXPECT_LE(upright.height, 118) << "with a margin";
+    EXPECT_GT(upright.height, 2 * upright.width) << "and stands upright";
+
+    // The same scene with the default +y up is not upright: the pillar lies across the image.
+    const ToolRun y_up = render("y_up.png", {});
+    const Outline lying = outline_of(read_png(scratch / "y_up.png"));
+    EXPECT_LT(lying.height, 2 * lying.width);
+}
+
 // --- bad input: the documented exit code, one line on stderr, and no image ---
 
 class SgRenderRefuses : public SgRender {
@@ -256,11 +326,12 @@ TEST_F(SgRenderRefuses, BadFlagValuesAreUsageErrors)
 
 TEST_F(SgRenderRefuses, CameraCompletedFromTheSceneIsCheckedToo)
 {
-    // Eye and look-at come from automatic framing, which looks along -(1, 0.6, 1.4): an up
-    // vector along that line is only found wrong after the scene is read, and is still a
+    // The eye comes from automatic framing, which always looks from 19 degrees above the
+    // plane perpendicular to --up; a --look-at straight above any eye the scene gives makes
+    // the view parallel to up, which is only found after the scene is read and is still a
     // usage error.
-    expect_usage_error({"--up", "1,0.6,1.4"}, "parallel");
-    expect_usage_error({"--up", "-2,-1.2,-2.8"}, "parallel");
+    expect_usage_error({"--look-at", "0,1e30,0"}, "parallel");
+    expect_usage_error({"--look-at", "0,-1e30,0"}, "parallel");
 }
 
 TEST_F(SgRenderRefuses, UnsupportedExtensionIsAUsageError)

@@ -1,9 +1,12 @@
 // End-to-end tests of sg-trace: hits read back from its output against brute force over the
 // mesh stored in the .sg file, for 1 and 2 threads, closest and any hit; bad inputs.
 
+#include <algorithm>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -292,6 +295,109 @@ TEST_F(SgTraceBadInput, TruncatedSgFile)
 TEST_F(SgTraceBadInput, MeshInsteadOfSgFile)
 {
     expect_refused(assimp_model("OFF/Cube.off"), good_rays_, "Cube.off");
+}
+
+// --- invalid rays: counted, warned about and written as misses; --strict refuses them ---
+
+class SgTraceInvalidRays : public SgTraceBadInput {
+protected:
+    void SetUp() override
+    {
+        SgTraceBadInput::SetUp();
+        // Ten good rays at even positions, ten invalid ones of every kind at odd positions.
+        std::vector<Ray> bad = invalid_rays();
+        const float inf = std::numeric_limits<float>::infinity();
+        bad.push_back(Ray{{0, 0, 0}, {inf, 0, 0}, 0, inf});
+        bad.push_back(Ray{{0, 0, 0}, {0, 0, 0}, 1, 2});
+        ASSERT_EQ(bad.size(), 10u);
+        Ray good;
+        good.origin = {0.1f, 0.2f, -5.0f};
+        good.direction = {0.0f, 0.0f, 1.0f};
+        for (std::size_t i = 0; i < 20; ++i) rays_.push_back(i % 2 == 0 ? good : bad[i / 2]);
+        write_ray_file(mixed_, rays_);
+    }
+
+    ToolRun trace_mixed(std::vector<std::string> extra)
+    {
+        std::vector<std::string> args = {sg_file_.string(), "--rays", mixed_.string(), "--out",
+                                         hits_.string()};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run_tool(SG_TRACE_EXE, args, scratch_);
+    }
+
+    std::vector<Ray> rays_;
+    fs::path mixed_ = scratch_ / "mixed.rays";
+};
+
+TEST_F(SgTraceInvalidRays, AreCountedWarnedAboutAndWrittenAsMisses)
+{
+    const ToolRun run = trace_mixed({});
+    ASSERT_EQ(run.exit_code, 0) << describe(run) << "\nthe file is well formed: not exit 2";
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_EQ(run.err.rfind("warning: " + mixed_.string() + ": 10 of 20 rays are invalid (NaN",
+                            0),
+              0u)
+        << run.err;
+    EXPECT_NE(run.err.find("the first is ray 1"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("written as misses"), std::string::npos) << run.err;
+    EXPECT_NE(run.out.find("10 hits (50.0%), 10 invalid rays"), std::string::npos) << run.out;
+
+    const std::vector<Hit> hits = read_hit_file(hits_);
+    ASSERT_EQ(hits.size(), rays_.size());
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+        SCOPED_TRACE(i);
+        if (i % 2 == 0) {
+            EXPECT_TRUE(hits[i].is_hit());
+            continue;
+        }
+        // A miss as docs/FORMAT.md describes it: no triangle, t = the ray's t_max bit for
+        // bit (NaN included), u = v = 0.
+        EXPECT_EQ(hits[i].triangle, invalid_triangle);
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(hits[i].t),
+                  std::bit_cast<std::uint32_t>(rays_[i].t_max));
+        EXPECT_EQ(hits[i].u, 0.0f);
+        EXPECT_EQ(hits[i].v, 0.0f);
+    }
+
+    const ToolRun json_run = trace_mixed({"--json"});
+    ASSERT_EQ(json_run.exit_code, 0) << describe(json_run);
+    const json j = json::parse(json_run.out);
+    EXPECT_EQ(j.at("invalid_rays"), 10);
+    EXPECT_EQ(j.at("hit_count"), 10);
+    EXPECT_EQ(j.at("ray_count"), 20);
+
+    const ToolRun any = trace_mixed({"--any-hit"});
+    ASSERT_EQ(any.exit_code, 0) << describe(any);
+    const std::vector<Hit> occluded = read_hit_file(hits_);
+    for (std::size_t i = 0; i < occluded.size(); ++i) {
+        EXPECT_EQ(occluded[i].triangle, i % 2 == 0 ? 0u : invalid_triangle) << i;
+        EXPECT_EQ(occluded[i].t, 0.0f) << i;
+    }
+}
+
+TEST_F(SgTraceInvalidRays, StrictRefusesTheFileAndWritesNothing)
+{
+    const ToolRun run = trace_mixed({"--strict"});
+    EXPECT_EQ(run.exit_code, 2) << describe(run);
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_EQ(run.err.rfind("error: " + mixed_.string() + ": 10 of 20 rays are invalid", 0), 0u)
+        << run.err;
+    EXPECT_NE(run.err.find("--strict"), std::string::npos) << run.err;
+    EXPECT_EQ(run.out, "");
+    EXPECT_FALSE(fs::exists(hits_));
+    for (const auto& entry : fs::directory_iterator(scratch_.path()))
+        EXPECT_NE(entry.path().extension(), ".tmp") << "temporary file left behind";
+}
+
+TEST_F(SgTraceInvalidRays, CleanFileGivesNoWarningEvenWithStrict)
+{
+    const ToolRun run = run_tool(SG_TRACE_EXE,
+                                 {sg_file_.string(), "--rays", good_rays_.string(), "--out",
+                                  hits_.string(), "--strict", "--json"},
+                                 scratch_);
+    ASSERT_EQ(run.exit_code, 0) << describe(run);
+    EXPECT_EQ(run.err, "");
+    EXPECT_EQ(json::parse(run.out).at("invalid_rays"), 0);
 }
 
 }  // namespace

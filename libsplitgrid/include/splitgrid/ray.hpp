@@ -42,4 +42,9 @@ struct Hit {
 /// invalid ray without touching the structure.
 [[nodiscard]] bool is_valid(const Ray& ray) noexcept;
 
+/// What makes a ray invalid (is_valid), in words, for the tools' messages about such rays.
+inline constexpr const char* invalid_ray_description =
+    "NaN or infinite origin or direction, zero direction, NaN or infinite t_min, NaN t_max "
+    "or t_min > t_max";
+
 }  // namespace sg

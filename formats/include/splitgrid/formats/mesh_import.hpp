@@ -19,7 +19,11 @@ struct ImportReport {
     std::size_t lines_skipped = 0;        ///< line primitives (not triangles)
     std::size_t nonfinite_dropped = 0;    ///< triangles with a NaN or infinite coordinate
     std::size_t degenerate_dropped = 0;   ///< zero-area triangles
-    std::size_t vertices = 0;             ///< vertices kept
+    /// Vertices of the kept triangles as the file's meshes gave them, before welding: Assimp
+    /// gives OBJ and STL files one vertex per triangle corner, and other formats one per
+    /// distinct (position, normal, texture coordinate, ...) combination.
+    std::size_t vertices_before_welding = 0;
+    std::size_t vertices = 0;             ///< vertices kept: distinct positions after welding
     /// Human-readable warnings (one line each), e.g. a face count implausibly small for the
     /// vertex count, which happens with PLY tristrips that Assimp does not read.
     std::vector<std::string> warnings;
@@ -64,8 +68,10 @@ struct ImportOptions {
 
 /// Reads every mesh of a scene file through Assimp (any format it reads: obj, ply, stl, off,
 /// gltf/glb, dae, fbx, 3ds, ...), applies the node transforms, triangulates polygons, skips
-/// points and lines, and drops triangles with non-finite corners or zero area (see
-/// clean_mesh). Vertices that no kept triangle uses are removed. Assimp writes nothing to
+/// points and lines, drops triangles with non-finite corners or zero area (see clean_mesh),
+/// then welds the vertices with bit-identical positions (weld_identical_vertices), which
+/// also removes the vertices no kept triangle uses. Triangle ids are the order of the faces
+/// in the file's meshes, whatever the welding does. Assimp writes nothing to
 /// stdout or stderr. Throws IoError "<path>: cannot open: <reason>" if the file cannot be
 /// opened, InputError "<path>: ..." if Assimp cannot parse it (or the file is a PLY with a
 /// header Assimp 5.2 would loop on forever), or "<path>: no triangles (N points, M lines
