@@ -36,6 +36,7 @@ inline void walk_bvh(const Bvh& bvh, const MeshArrays& mesh, const KernelRay& ra
     constexpr float miss = std::numeric_limits<float>::infinity();
     if (box_entry(ray, nodes[0].bounds, ray.t_min, ray.t_max) == miss) return;
     const std::uint32_t* const refs = bvh.refs().data();
+    const std::uint32_t* const refs_end = refs + bvh.refs().size();
     NoMailbox no_mailbox;
 
     struct Pending {
@@ -68,10 +69,8 @@ inline void walk_bvh(const Bvh& bvh, const MeshArrays& mesh, const KernelRay& ra
             }
         } else {
             search.count_cell();
-            std::uint32_t r = node.first_ref();
-            const std::uint32_t end = r + node.ref_count();
-            (void)test_leaf<test>(ray, mesh, search, no_mailbox, [&] { return refs[r++]; },
-                                  [&] { return r == end; });
+            (void)test_id_leaf<test>(ray, mesh, search, no_mailbox, refs + node.first_ref(),
+                                     node.ref_count(), refs_end);
             if (search.done()) return;
         }
         // Next pending subtree whose box starts before the closest hit so far.

@@ -70,23 +70,25 @@ private:
 class Mailbox {
 public:
     Mailbox() noexcept { std::memset(slots_, 0xFF, sizeof slots_); }
-    /// True if `tri` was recorded and not evicted since; records it otherwise.
-    bool seen(std::uint32_t tri) noexcept
+    /// Of the lanes set in `lanes`, those whose id was not recorded (or was evicted since);
+    /// records the ids of all lanes. Every lane must hold an id that is tested now: the
+    /// unused ones a copy of a used one. One gather and eight stores.
+    std::uint32_t filter(vint id, std::uint32_t lanes) noexcept
     {
-        std::uint32_t& slot = slots_[tri & (size - 1)];
-        if (slot == tri) return true;
-        slot = tri;
-        return false;
+        const vint slot = id & static_cast<std::int32_t>(size - 1);
+        const std::uint32_t seen = lane_bits(gather(slots_, slot) == id);
+        for (int l = 0; l < 8; ++l) slots_[slot[l]] = id[l];
+        return lanes & ~seen;
     }
 
 private:
     static constexpr std::uint32_t size = 32;
-    std::uint32_t slots_[size];
+    std::int32_t slots_[size];
 };
 
 /// Stands in for a Mailbox in structures that reference every triangle once (the BVH).
 struct NoMailbox {
-    static constexpr bool seen(std::uint32_t) noexcept { return false; }
+    static constexpr std::uint32_t filter(vint, std::uint32_t lanes) noexcept { return lanes; }
 };
 
 }  // namespace sg::kernels::SG_KERNEL_ISA

@@ -24,6 +24,7 @@ inline void walk_kd_tree(const KdTree& tree, const MeshArrays& mesh, const Kerne
     float t1 = ray.t_max;
     if (!ray.clip_box(tree.box(), t0, t1)) return;
     const std::uint32_t* const refs = tree.refs().data();
+    const std::uint32_t* const refs_end = refs + tree.refs().size();
     Mailbox mailbox;
 
     struct Pending {
@@ -79,10 +80,8 @@ inline void walk_kd_tree(const KdTree& tree, const MeshArrays& mesh, const Kerne
         }
         search.count_cell();
         if (node.ref_count() > 0) {
-            std::uint32_t r = node.first_ref();
-            const std::uint32_t end = r + node.ref_count();
-            (void)test_leaf<test>(ray, mesh, search, mailbox, [&] { return refs[r++]; },
-                                  [&] { return r == end; });
+            (void)test_id_leaf<test>(ray, mesh, search, mailbox, refs + node.first_ref(),
+                                     node.ref_count(), refs_end);
         }
         if (search.done()) return;
         // Next pending node that may still hold a closer hit; hits beyond this leaf's interval

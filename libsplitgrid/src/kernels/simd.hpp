@@ -11,12 +11,13 @@
 
 namespace sg::kernels::SG_KERNEL_ISA {
 
-inline constexpr int lanes = 8;
+inline constexpr int lane_count = 8;
 typedef float vfloat __attribute__((vector_size(32)));
 typedef std::int32_t vint __attribute__((vector_size(32)));
 
 /// x in every lane (bit for bit: -0 stays -0).
 [[nodiscard]] inline vfloat splat(float x) noexcept { return vfloat{x, x, x, x, x, x, x, x}; }
+[[nodiscard]] inline vint splat(std::int32_t x) noexcept { return vint{x, x, x, x, x, x, x, x}; }
 /// |x| lane by lane, as std::abs (the sign bit cleared).
 [[nodiscard]] inline vfloat abs(vfloat x) noexcept { return (vfloat)((vint)x & 0x7FFFFFFF); }
 
@@ -41,7 +42,7 @@ typedef std::int32_t vint __attribute__((vector_size(32)));
     return vfloat(_mm256_i32gather_ps(base, __m256i(index), 4));
 #else
     vfloat v;
-    for (int l = 0; l < lanes; ++l) v[l] = base[index[l]];
+    for (int l = 0; l < lane_count; ++l) v[l] = base[index[l]];
     return v;
 #endif
 }
@@ -51,9 +52,25 @@ typedef std::int32_t vint __attribute__((vector_size(32)));
     return vint(_mm256_i32gather_epi32(base, __m256i(index), 4));
 #else
     vint v;
-    for (int l = 0; l < lanes; ++l) v[l] = base[index[l]];
+    for (int l = 0; l < lane_count; ++l) v[l] = base[index[l]];
     return v;
 #endif
+}
+
+/// ids[0, n) in lanes 0 .. n - 1 (as signed words; the ids are below 2^31), one vector load
+/// where the array holds lane_count words from `ids` on (`end` is the array's end); the other
+/// lanes are unspecified (valid words of the array, or 0).
+[[nodiscard]] inline vint load_ids(const std::uint32_t* ids, std::uint32_t n,
+                                   const std::uint32_t* end) noexcept
+{
+    vint v;
+    if (end - ids >= lane_count) {
+        std::memcpy(&v, ids, sizeof v);
+        return v;
+    }
+    v = splat(std::int32_t{0});
+    for (std::uint32_t l = 0; l < n; ++l) v[l] = static_cast<std::int32_t>(ids[l]);
+    return v;
 }
 
 }  // namespace sg::kernels::SG_KERNEL_ISA

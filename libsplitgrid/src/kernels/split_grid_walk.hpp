@@ -41,113 +41,133 @@ struct GridCursor {
 inline constexpr std::size_t grid_stack_size = max_supported_depth + 1;
 
 /// Walks the Split Grid front to back for `ray`, testing leaves with `test` and keeping the
-/// result in `search`. Per node entry: one slab clip (two crossings), the entry cell from one
-/// division, no correction loop; per cell: one crossing (a multiply and an add) and two
-/// compares (instruction counts per ray: docs/BENCH.md).
+/// result in `search`. Per node entry: one slab clip (two crossings) and the entry cell from
+/// one division, no correction loop; per cell: one crossing (a multiply and an add) and two
+/// compares (instruction counts per ray: docs/BENCH.md). A class rather than lambdas: GCC
+/// compiles lambdas without the instruction set of the target region they are written in.
 template <TriangleTest test, class Search>
-inline void walk_split_grid(const SplitGrid& grid, const MeshArrays& mesh, const KernelRay& ray,
-                            Search& search) noexcept
-{
-    float t0 = ray.t_min;
-    float t1 = ray.t_max;
-    if (grid.root.is_empty() || !ray.clip_box(grid.root_box, t0, t1)) return;
-    Mailbox mailbox;
-    const TriangleRef* const refs = grid.triangle_refs.data();
-    auto test_leaf_cell = [&](CellRef cell) {
-        const TriangleRef* ref = refs + cell.first_ref();
-        bool is_last = false;
-        return test_leaf<test>(
-            ray, mesh, search, mailbox,
-            [&] {
-                const TriangleRef r = *ref++;
-                is_last = r.is_last();
-                return r.triangle();
-            },
-            [&] { return is_last; });
-    };
-    if (grid.root.is_leaf()) {
-        (void)test_leaf_cell(grid.root);
-        return;
+class SplitGridWalk {
+public:
+    SplitGridWalk(const SplitGrid& grid, const MeshArrays& mesh, const KernelRay& ray,
+                  Search& search) noexcept
+        : grid_(grid), mesh_(mesh), ray_(ray), search_(search)
+    {
     }
 
-    std::array<GridCursor, grid_stack_size> stack;  // not zeroed: only [0, sp) is ever read
-    std::size_t sp = 0;
-    // Clips [t0, t1] to the node's slab and pushes a cursor at the first cell the ray may be
-    // in. A full stack (ruled out by check_invariants) drops the node rather than overflow.
-    auto enter_node = [&](std::uint32_t index, float n0, float n1) {
-        search.count_node();
-        const GridNode node = grid.nodes[index];
-        const int axis = node.axis();
-        const std::uint32_t n = node.resolution();
-        SG_ASSERT(sp < grid_stack_size);
-        if (sp >= grid_stack_size) return;
-        if (ray.parallel[axis]) {
-            // Parallel to the axis: the ray stays in the cell of its origin (the lowest one if
-            // the origin lies on a boundary: triangles there are referenced by both cells).
-            const float o = ray.origin[axis];
-            if (!(o >= node.lo && o <= node.hi)) return;
-            const auto cell = static_cast<std::int32_t>(CellMath(node.lo, node.hi, n).locate_lowest(o));
-            stack[sp++] = GridCursor{std::numeric_limits<float>::infinity(), 0.0f, n0, n1, 0.0f,
-                                     cell, cell + 1, 1, node.first_cell()};
+    void run() noexcept
+    {
+        float t0 = ray_.t_min;
+        float t1 = ray_.t_max;
+        if (grid_.root.is_empty() || !ray_.clip_box(grid_.root_box, t0, t1)) return;
+        if (grid_.root.is_leaf()) {
+            (void)test_leaf_cell(grid_.root);
             return;
         }
-        const float pad = ray.pad[axis];
-        const float t_lo = ray.crossing(axis, node.lo);
-        const float t_hi = ray.crossing(axis, node.hi);
+        enter_node(grid_.root.child(), t0, t1);
+        while (sp_ > 0) {
+            GridCursor& c = stack_[sp_ - 1];
+            // Cells are in ray order: once one starts past the closest hit so far (or past the
+            // node), so do all after it.
+            if (c.cell == c.end || c.enter > std::min(c.t1, search_.best_t())) {
+                --sp_;
+                continue;
+            }
+            const std::int32_t exit_boundary = c.step > 0 ? c.cell + 1 : c.cell;
+            const float t_exit = c.t_lo + static_cast<float>(exit_boundary) * c.dt;
+            const float c0 = c.enter;
+            // Operand order matters for extreme rays (t_exit NaN): std::min and std::max return
+            // their first operand when the second is NaN.
+            const float c1 = std::min(c.t1, t_exit + c.pad);
+            // The plane this cell is left through is the plane the next one is entered through.
+            c.enter = std::max(c.enter, t_exit - c.pad);
+            const CellRef cell = grid_.cells[c.first_cell + static_cast<std::uint32_t>(c.cell)];
+            c.cell += c.step;
+            search_.count_cell();
+            if (cell.is_empty() || c0 > c1) continue;
+            if (cell.is_leaf()) {
+                if (test_leaf_cell(cell) && search_.done()) return;
+                continue;
+            }
+            enter_node(cell.child(), c0, c1);
+        }
+    }
+
+private:
+    bool test_leaf_cell(CellRef cell) noexcept
+    {
+        const TriangleRef* refs = grid_.triangle_refs.data();
+        return test_marked_leaf<test>(ray_, mesh_, search_, mailbox_, refs + cell.first_ref(),
+                                      refs + grid_.triangle_refs.size());
+    }
+
+    // Clips [n0, n1] to the node's slab and pushes a cursor at the first cell the ray may be
+    // in. A full stack (ruled out by check_invariants) drops the node rather than overflow.
+    void enter_node(std::uint32_t index, float n0, float n1) noexcept
+    {
+        search_.count_node();
+        const GridNode node = grid_.nodes[index];
+        const int axis = node.axis();
+        const std::uint32_t n = node.resolution();
+        SG_ASSERT(sp_ < grid_stack_size);
+        if (sp_ >= grid_stack_size) return;
+        if (ray_.parallel[axis]) {
+            // Parallel to the axis: the ray stays in the cell of its origin (the lowest one if
+            // the origin lies on a boundary: triangles there are referenced by both cells).
+            const float o = ray_.origin[axis];
+            if (!(o >= node.lo && o <= node.hi)) return;
+            const auto cell = static_cast<std::int32_t>(CellMath(node.lo, node.hi, n).locate_lowest(o));
+            stack_[sp_++] = GridCursor{std::numeric_limits<float>::infinity(), 0.0f, n0, n1, 0.0f,
+                                       cell, cell + 1, 1, node.first_cell()};
+            return;
+        }
+        const float pad = ray_.pad[axis];
+        const float t_lo = ray_.crossing(axis, node.lo);
+        const float t_hi = ray_.crossing(axis, node.hi);
         n0 = std::max(n0, std::min(t_lo, t_hi) - pad);
         n1 = std::min(n1, std::max(t_lo, t_hi) + pad);
         if (!(n0 <= n1)) return;
-        const bool up = !ray.negative[axis];
-        const std::int32_t end = up ? static_cast<std::int32_t>(n) : -1;
-        const std::int32_t step = up ? 1 : -1;
-        if (ray.extreme) {
+        // Walk direction without a branch (its sign is the ray's, unpredictable per node):
+        // up the axis from cell 0 to n - 1, or down from n - 1 to 0.
+        const bool up = !ray_.negative[axis];
+        const std::int32_t down = ray_.negative[axis] ? 1 : 0;
+        const std::int32_t end = (static_cast<std::int32_t>(n) + 1) * (1 - down) - 1;
+        const std::int32_t step = 1 - 2 * down;
+        if (ray_.extreme) {
             // Crossings near FLT_MAX: every cell, in ray order, over the node's whole interval.
             // A NaN t_lo makes every extrapolated crossing NaN, which the walk's std::min and
             // std::max drop (they keep their first operand), so no cell interval shrinks.
             const std::int32_t first = up ? 0 : static_cast<std::int32_t>(n) - 1;
-            stack[sp++] = GridCursor{std::numeric_limits<float>::quiet_NaN(), 0.0f, n0, n1, pad,
-                                     first, end, step, node.first_cell()};
+            stack_[sp_++] = GridCursor{std::numeric_limits<float>::quiet_NaN(), 0.0f, n0, n1, pad,
+                                       first, end, step, node.first_cell()};
             return;
         }
-        const float dt = (node.hi - node.lo) * reciprocal_resolution(n) * ray.inv[axis];
+        const float dt = (node.hi - node.lo) * reciprocal_resolution(n) * ray_.inv[axis];
         // The first cell in ray order whose widened interval may reach n0: position of the
         // parameter n0 - pad in cell units, rounded down (it is a lower bound going up the
         // axis and, dt being negative, an upper bound going down). A flat node (dt = 0) gives
         // +-infinity, clamped to its first cell in ray order, or NaN, taken as that cell too.
+        // (std::max(0, x) is 0 for NaN, a min/max instruction rather than a branch.)
         const float last = static_cast<float>(n - 1);
         float x = (n0 - pad - t_lo) / dt;
         if (x != x) x = up ? 0.0f : last;
-        const auto cell = static_cast<std::int32_t>(x > 0.0f ? (x < last ? x : last) : 0.0f);
-        stack[sp++] = GridCursor{t_lo, dt, n0, n1, pad, cell, end, step, node.first_cell()};
-    };
-
-    enter_node(grid.root.child(), t0, t1);
-    while (sp > 0) {
-        GridCursor& c = stack[sp - 1];
-        // Cells are in ray order: once one starts past the closest hit so far (or past the
-        // node), so do all after it.
-        if (c.cell == c.end || c.enter > std::min(c.t1, search.best_t())) {
-            --sp;
-            continue;
-        }
-        const std::int32_t exit_boundary = c.step > 0 ? c.cell + 1 : c.cell;
-        const float t_exit = c.t_lo + static_cast<float>(exit_boundary) * c.dt;
-        const float c0 = c.enter;
-        // Operand order matters for extreme rays (t_exit NaN): std::min and std::max return
-        // their first operand when the second is NaN.
-        const float c1 = std::min(c.t1, t_exit + c.pad);
-        // The plane this cell is left through is the plane the next one is entered through.
-        c.enter = std::max(c.enter, t_exit - c.pad);
-        const CellRef cell = grid.cells[c.first_cell + static_cast<std::uint32_t>(c.cell)];
-        c.cell += c.step;
-        search.count_cell();
-        if (cell.is_empty() || c0 > c1) continue;
-        if (cell.is_leaf()) {
-            if (test_leaf_cell(cell) && search.done()) return;
-            continue;
-        }
-        enter_node(cell.child(), c0, c1);
+        const auto cell = static_cast<std::int32_t>(std::min(last, std::max(0.0f, x)));
+        stack_[sp_++] = GridCursor{t_lo, dt, n0, n1, pad, cell, end, step, node.first_cell()};
     }
+
+    const SplitGrid& grid_;
+    const MeshArrays& mesh_;
+    const KernelRay& ray_;
+    Search& search_;
+    Mailbox mailbox_;
+    std::array<GridCursor, grid_stack_size> stack_;  // not zeroed: only [0, sp_) is ever read
+    std::size_t sp_ = 0;
+};
+
+template <TriangleTest test, class Search>
+inline void walk_split_grid(const SplitGrid& grid, const MeshArrays& mesh, const KernelRay& ray,
+                            Search& search) noexcept
+{
+    SplitGridWalk<test, Search>(grid, mesh, ray, search).run();
 }
 
 }  // namespace sg::kernels::SG_KERNEL_ISA

@@ -53,21 +53,22 @@ template <TriangleTest test>
                                                   t_min, t_max, t, u, v);
 }
 
-/// Tests the triangles ids[0, n), 1 <= n <= lanes, over [search.t_min(), search.best_t()] and
-/// offers each hit to `search` in id order, so ties go to the first as in a one-by-one loop.
-/// ids must hold `lanes` entries (those past n are any valid id: their lanes are ignored).
+/// Tests the triangles id[l] of the lanes l set in `lanes` (at least one) over
+/// [search.t_min(), search.best_t()] and offers each hit to `search` in lane order, so ties go
+/// to the earlier lane as in a one-by-one loop. Lanes not set must still hold a valid id.
 /// True if a hit was kept.
 template <TriangleTest test, class Search>
-inline bool test_batch(const KernelRay& ray, const MeshArrays& mesh, const std::uint32_t* ids,
-                       int n, Search& search) noexcept
+inline bool test_lanes(const KernelRay& ray, const MeshArrays& mesh, vint id, std::uint32_t lanes,
+                       Search& search) noexcept
 {
-    search.count_triangles(static_cast<std::uint32_t>(n));
+    search.count_triangles(static_cast<std::uint32_t>(__builtin_popcount(lanes)));
     bool kept = false;
     if (test != TriangleTest::watertight || !mesh.batchable) {
-        for (int l = 0; l < n; ++l) {
+        for (std::uint32_t todo = lanes; todo != 0; todo &= todo - 1) {
+            const auto tri = static_cast<std::uint32_t>(id[__builtin_ctz(todo)]);
             float t, u, v;
-            if (test_one<test>(ray, mesh.view, ids[l], search.t_min(), search.best_t(), t, u, v) &&
-                search.offer(t, ids[l], u, v)) {
+            if (test_one<test>(ray, mesh.view, tri, search.t_min(), search.best_t(), t, u, v) &&
+                search.offer(t, tri, u, v)) {
                 kept = true;
                 if (search.done()) return true;
             }
@@ -76,8 +77,6 @@ inline bool test_batch(const KernelRay& ray, const MeshArrays& mesh, const std::
     }
 
     const WatertightRay& r = ray.shear;
-    vint id;
-    std::memcpy(&id, ids, sizeof id);
     const vint id3 = id * 3;
     const vint a3 = gather(mesh.corners, id3) * 3;
     const vint b3 = gather(mesh.corners, id3 + 1) * 3;
@@ -99,11 +98,6 @@ inline bool test_batch(const KernelRay& ray, const MeshArrays& mesh, const std::
     const vfloat V = Ax * Cy - Ay * Cx;
     const vfloat W = Bx * Ay - By * Ax;
     const vfloat zero = splat(0.0f);
-    const vint lane_index = {0, 1, 2, 3, 4, 5, 6, 7};
-    const vint in_use = lane_index < n;
-    // Lanes with an edge function exactly zero take intersect_triangle's double-precision
-    // path, one by one, below.
-    const vint exact = in_use & ((U == zero) | (V == zero) | (W == zero));
     const vint mixed = ((U < zero) | (V < zero) | (W < zero)) & ((U > zero) | (V > zero) | (W > zero));
     const vfloat det = U + V + W;
     const vfloat Az = sz * Akz, Bz = sz * Bkz, Cz = sz * Ckz;
@@ -115,23 +109,26 @@ inline bool test_batch(const KernelRay& ray, const MeshArrays& mesh, const std::
                          (~positive & ((T > lo + early_out_margin(lo)) | (T < hi - early_out_margin(hi))));
     const vfloat inv_det = splat(1.0f) / det;
     const vfloat t = T * inv_det;
-    const vint accept = in_use & ~exact & ~mixed & (det != zero) & ((T - T) == zero) & ~outside &
-                        (t >= splat(search.t_min())) & (t <= splat(search.best_t()));
-    std::uint32_t todo = lane_bits(accept | exact);
+    const vint pass = ~mixed & (det != zero) & ((T - T) == zero) & ~outside &
+                      (t >= splat(search.t_min())) & (t <= splat(search.best_t()));
+    // Lanes with an edge function exactly zero take intersect_triangle's double-precision
+    // path, one by one, below.
+    const std::uint32_t exact = lane_bits((U == zero) | (V == zero) | (W == zero)) & lanes;
+    std::uint32_t todo = (lane_bits(pass) & lanes) | exact;
     if (todo == 0) return false;
-    const std::uint32_t exact_bits = lane_bits(exact);
     const vfloat u = V * inv_det, v = W * inv_det;
     for (; todo != 0; todo &= todo - 1) {
         const int l = __builtin_ctz(todo);
+        const auto tri = static_cast<std::uint32_t>(id[l]);
         float tl = t[l], ul = u[l], vl = v[l];
-        if ((exact_bits >> l) & 1u) {
-            if (!test_one<TriangleTest::watertight>(ray, mesh.view, ids[l], search.t_min(),
+        if ((exact >> l) & 1u) {
+            if (!test_one<TriangleTest::watertight>(ray, mesh.view, tri, search.t_min(),
                                                     search.best_t(), tl, ul, vl))
                 continue;
         } else if (!(tl <= search.best_t())) {
             continue;  // a lane before this one was closer
         }
-        if (search.offer(tl, ids[l], ul, vl)) {
+        if (search.offer(tl, tri, ul, vl)) {
             kept = true;
             if (search.done()) return true;
         }
@@ -139,29 +136,64 @@ inline bool test_batch(const KernelRay& ray, const MeshArrays& mesh, const std::
     return kept;
 }
 
-/// Collects the triangles of one leaf that the mailbox has not seen into batches of `lanes`
-/// and tests them. `next()` returns the leaf's next triangle id, `last()` whether the one it
-/// just returned was the leaf's last. True if a hit was kept.
-template <TriangleTest test, class Search, class Box, class Next, class Last>
-inline bool test_leaf(const KernelRay& ray, const MeshArrays& mesh, Search& search, Box& mailbox,
-                      const Next& next, const Last& last) noexcept
+/// Tests one leaf of `count` triangle ids at `ids` (the BVH's, kd-tree's and uniform grid's
+/// leaves), `lane_count` at a time, skipping those `mailbox` has seen. Loads whole vectors of ids
+/// where the array holds them (`ids_end` is its end), so no loop runs per id. True if a hit
+/// was kept.
+template <TriangleTest test, class Search, class Box>
+inline bool test_id_leaf(const KernelRay& ray, const MeshArrays& mesh, Search& search, Box& mailbox,
+                         const std::uint32_t* ids, std::uint32_t count,
+                         const std::uint32_t* ids_end) noexcept
 {
-    std::uint32_t ids[lanes];
-    int n = 0;
     bool kept = false;
+    const vint lane_index = {0, 1, 2, 3, 4, 5, 6, 7};
     for (;;) {
-        const std::uint32_t tri = next();
-        const bool end = last();
-        if (!mailbox.seen(tri)) ids[n++] = tri;
-        if (n == lanes || (end && n > 0)) {
-            for (int l = n; l < lanes; ++l) ids[l] = ids[0];
-            if (test_batch<test>(ray, mesh, ids, n, search)) {
-                kept = true;
-                if (search.done()) return true;
-            }
-            n = 0;
+        const std::uint32_t n = std::min<std::uint32_t>(count, lane_count);
+        vint id = load_ids(ids, n, ids_end);
+        id = (lane_index < static_cast<std::int32_t>(n)) ? id : splat(id[0]);
+        const std::uint32_t fresh = mailbox.filter(id, (1u << n) - 1u);
+        if (fresh != 0 && test_lanes<test>(ray, mesh, id, fresh, search)) {
+            kept = true;
+            if (search.done()) return true;
         }
-        if (end) return kept;
+        if (count <= lane_count) return kept;
+        count -= lane_count;
+        ids += lane_count;
+    }
+}
+
+/// Tests one Split Grid leaf: its references from `first` to the one with the last bit set
+/// (TriangleRef), `lane_count` at a time, skipping those `mailbox` has seen; `refs_end` is the end
+/// of the reference array. The leaf's length comes from the lane mask of the last bits, so no
+/// loop runs per reference. True if a hit was kept.
+template <TriangleTest test, class Search, class Box>
+inline bool test_marked_leaf(const KernelRay& ray, const MeshArrays& mesh, Search& search,
+                             Box& mailbox, const TriangleRef* first,
+                             const TriangleRef* refs_end) noexcept
+{
+    static_assert(sizeof(TriangleRef) == sizeof(std::uint32_t));
+    bool kept = false;
+    const vint lane_index = {0, 1, 2, 3, 4, 5, 6, 7};
+    for (;;) {
+        const auto* words = reinterpret_cast<const std::uint32_t*>(first);
+        const auto available = static_cast<std::uint32_t>(
+            std::min<std::ptrdiff_t>(refs_end - first, lane_count));
+        const vint raw = load_ids(words, available, reinterpret_cast<const std::uint32_t*>(refs_end));
+        // The last bit is the sign bit: the lanes at and after the leaf's last reference.
+        const std::uint32_t last_bits = lane_bits(raw < 0) & ((1u << available) - 1u);
+        const std::uint32_t n = last_bits != 0 ? static_cast<std::uint32_t>(__builtin_ctz(last_bits)) + 1
+                                               : available;
+        vint id = raw & 0x7FFFFFFF;
+        id = (lane_index < static_cast<std::int32_t>(n)) ? id : splat(id[0]);
+        const std::uint32_t fresh = mailbox.filter(id, (1u << n) - 1u);
+        if (fresh != 0 && test_lanes<test>(ray, mesh, id, fresh, search)) {
+            kept = true;
+            if (search.done()) return true;
+        }
+        // (A leaf always ends at a marked reference, check_invariants makes sure; the array's
+        // end stops a damaged one.)
+        if (last_bits != 0 || available < lane_count) return kept;
+        first += lane_count;
     }
 }
 

@@ -88,14 +88,14 @@ inline void walk_uniform_grid(const UniformGrid& grid, const MeshArrays& mesh,
     Mailbox mailbox;
     const std::span<const std::uint32_t> offsets = grid.cell_offsets();
     const std::uint32_t* const refs = grid.refs().data();
+    const std::uint32_t* const refs_end = refs + grid.refs().size();
     auto visit = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
         search.count_cell();
         const std::size_t c = grid.cell_index(x, y, z);
-        std::uint32_t r = offsets[c];
-        const std::uint32_t end = offsets[c + 1];
-        if (r == end) return false;
-        (void)test_leaf<test>(ray, mesh, search, mailbox, [&] { return refs[r++]; },
-                              [&] { return r == end; });
+        const std::uint32_t first = offsets[c];
+        const std::uint32_t count = offsets[c + 1] - first;
+        if (count == 0) return false;
+        (void)test_id_leaf<test>(ray, mesh, search, mailbox, refs + first, count, refs_end);
         return search.done();
     };
     (void)step(axes[0], t0, t1, [&](std::uint32_t x, float x0, float x1) {
