@@ -30,6 +30,7 @@
 #include <unistd.h>
 
 #include "splitgrid/error.hpp"
+#include "splitgrid/formats/temporary_paths.hpp"
 
 namespace sg::detail {
 namespace {
@@ -120,6 +121,8 @@ void encode_mesh(WireWriter& out, const ImportedMesh& imported)
         out.u64(n);
     out.u64(r.warnings.size());
     for (const std::string& w : r.warnings) out.text(w);
+    out.u64(r.opened_files.size());
+    for (const std::string& f : r.opened_files) out.text(f);
     out.array(imported.mesh.vertices);
     out.array(imported.mesh.triangles);
 }
@@ -140,6 +143,13 @@ bool decode_mesh(WireReader& in, ImportedMesh& imported)
         std::string w;
         if (!in.text(w)) return false;
         r.warnings.push_back(std::move(w));
+    }
+    std::uint64_t opened_files = 0;
+    if (!in.u64(opened_files)) return false;
+    for (std::uint64_t i = 0; i < opened_files; ++i) {
+        std::string f;
+        if (!in.text(f)) return false;
+        r.opened_files.push_back(std::move(f));
     }
     return in.array(imported.mesh.vertices) && in.array(imported.mesh.triangles) &&
            in.at_end();
@@ -382,15 +392,25 @@ ImportedMesh import_in_child(const std::filesystem::path& path, const ImportOpti
     open_pipe(output, path);
     // Anything buffered now would be written twice, once by each process.
     std::fflush(nullptr);
-    const pid_t pid = ::fork();
+    // An interrupted tool kills the child rather than leave it importing (the child keeps the
+    // parent's signal mask, so in a tool SIGINT and SIGTERM do not reach it directly). The
+    // fork and the registration happen under one hold of the cleanup registry; the child
+    // never touches the registry, so its copy of the held lock does not matter.
+    CleanupEntry kill_on_interrupt;
+    pid_t pid = 0;
+    {
+        const CleanupHold hold = hold_off_cleanup();
+        pid = ::fork();
+        if (pid == 0) {
+            answer.read.reset();
+            output.read.reset();
+            run_child(answer.write.get(), output.write.get(), options, import);
+        }
+        if (pid > 0) kill_on_interrupt = CleanupEntry::process(pid, hold);
+    }
     if (pid < 0)
         throw IoError(path.string() + ": cannot start the import process: fork: " +
                       std::error_code(errno, std::generic_category()).message());
-    if (pid == 0) {
-        answer.read.reset();
-        output.read.reset();
-        run_child(answer.write.get(), output.write.get(), options, import);
-    }
     answer.write.reset();
     output.write.reset();
     const ChildResult child = collect(pid, answer.read, output.read, options.time_limit_seconds);

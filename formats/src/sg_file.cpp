@@ -9,9 +9,9 @@
 #include <span>
 #include <variant>
 
-#include "atomic_file.hpp"
 #include "checksum.hpp"
 #include "sg_file_layout.hpp"
+#include "splitgrid/formats/output_file.hpp"
 
 namespace sg {
 namespace {
@@ -173,7 +173,13 @@ std::vector<std::uint8_t> encode_sg(const SgContents& contents)
 
 void write_sg_file(const std::filesystem::path& path, const SgContents& contents)
 {
-    detail::write_file_atomically(path, encode_sg(contents));
+    OutputFile output(path);
+    write_sg_file(output, contents);
+}
+
+void write_sg_file(OutputFile& output, const SgContents& contents)
+{
+    output.commit(encode_sg(contents));
 }
 
 }  // namespace sg
