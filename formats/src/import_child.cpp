@@ -25,6 +25,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -193,9 +194,14 @@ void apply_limits(const ImportOptions& options)
     ::setrlimit(RLIMIT_CPU, &cpu_limit);
 }
 
-[[noreturn]] void run_child(int answer_fd, int output_fd, const ImportOptions& options,
+[[noreturn]] void run_child(pid_t parent, int answer_fd, int output_fd,
+                            const ImportOptions& options,
                             const std::function<ImportedMesh()>& import)
 {
+    // A parent killed outright (SIGKILL) cannot stop the child: the kernel does, so that no
+    // import is left running for nobody. Checked once more in case the parent died before.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(1);
     // Assimp is silent, but an assertion or a sanitizer report goes to stderr: capture both
     // streams, so nothing lands in the tool's own output (stdout may be JSON).
     ::dup2(output_fd, STDOUT_FILENO);
@@ -400,11 +406,12 @@ ImportedMesh import_in_child(const std::filesystem::path& path, const ImportOpti
     pid_t pid = 0;
     {
         const CleanupHold hold = hold_off_cleanup();
+        const pid_t parent = ::getpid();
         pid = ::fork();
         if (pid == 0) {
             answer.read.reset();
             output.read.reset();
-            run_child(answer.write.get(), output.write.get(), options, import);
+            run_child(parent, answer.write.get(), output.write.get(), options, import);
         }
         if (pid > 0) kill_on_interrupt = CleanupEntry::process(pid, hold);
     }

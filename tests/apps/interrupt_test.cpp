@@ -8,11 +8,14 @@
 // sg-build and sg-bench inside the import's child process, which must then be gone too).
 // Two tests interrupt real work instead: the parallel build of a 360,000-triangle mesh and
 // the VTK writers of its export, frozen with SIGSTOP at the moment the test sees the work in
-// progress. SIGKILL cannot be caught: the next run removes what a killed run left behind.
+// progress. SIGKILL cannot be caught: the import child dies with the tool (the kernel sees
+// to that), and the next run removes what the killed run left behind.
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -51,6 +54,33 @@ bool pipe_has_reader(const fs::path& fifo)
     if (fd < 0) return false;
     ::close(fd);
     return true;
+}
+
+/// The child processes of `pid` (of its main thread), from /proc.
+std::vector<pid_t> children_of(pid_t pid)
+{
+    std::ifstream in("/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) +
+                     "/children");
+    std::vector<pid_t> children;
+    for (pid_t child = 0; in >> child;) children.push_back(child);
+    return children;
+}
+
+/// Whether `pid` has ended (a zombie) or has SIGKILL pending, from /proc/<pid>/status.
+bool is_dead_or_being_killed(pid_t pid)
+{
+    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+    const std::uint64_t sigkill_bit = std::uint64_t{1} << (SIGKILL - 1);
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("State:", 0) == 0 && (line.find('Z') != std::string::npos ||
+                                              line.find('X') != std::string::npos))
+            return true;
+        if (line.rfind("SigPnd:", 0) == 0 || line.rfind("ShdPnd:", 0) == 0) {
+            const std::uint64_t pending = std::stoull(line.substr(7), nullptr, 16);
+            if ((pending & sigkill_bit) != 0) return true;
+        }
+    }
+    return false;
 }
 
 /// `mesh` as a binary STL file.
@@ -276,16 +306,26 @@ TEST(InterruptKill, TheNextRunRemovesTheTemporaryFileOfAKilledRun)
     ScratchDir scratch;
     const fs::path mesh = make_fifo(scratch / "mesh.stl");
     const fs::path out = scratch / "out.sg";
+    // This test process adopts the processes its tools leave behind, so that it can see the
+    // import child of the killed tool.
+    ASSERT_EQ(::prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
     const RunningTool killed = start_tool(SG_BUILD_EXE, {mesh.string(), "-o", out.string()},
                                           scratch);
     wait_for_entry(killed, scratch.path(), ".out.sg.tmp-");
+    ASSERT_TRUE(wait_until(killed, [&] { return !children_of(killed.pid).empty(); }))
+        << "the import child never started";
+    const pid_t import_child = children_of(killed.pid).front();
     ::kill(killed.pid, SIGKILL);
     EXPECT_EQ(finish_tool(killed).exit_code, 128 + SIGKILL);
+    // The kernel sends the child SIGKILL as its parent dies, before the parent can be
+    // waited for: by now the child is dead or has the signal pending.
+    EXPECT_TRUE(is_dead_or_being_killed(import_child))
+        << "the import child outlives the killed tool";
+    ::kill(import_child, SIGKILL);
+    ::waitpid(import_child, nullptr, 0);
+    ::prctl(PR_SET_CHILD_SUBREAPER, 0);
     const std::vector<std::string> left = entries_starting_with(scratch.path(), ".out.sg.tmp-");
     ASSERT_EQ(left.size(), 1u) << "SIGKILL cannot be caught: the temporary file stays";
-    // The killed tool's import child still waits on the pipe (nobody was left to kill it);
-    // opening the pipe for writing lets it read an empty file and end.
-    (void)pipe_has_reader(mesh);
     // A temporary of a process that is still running (this test's) is never touched.
     const std::string live = ".out.sg.tmp-" + std::to_string(::getpid()) + "-0123456789abcdef";
     write_text(scratch / live, "still being written");
