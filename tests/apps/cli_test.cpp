@@ -394,6 +394,15 @@ TEST(ToolsConvention, TooManyThreadsGiveOneWarningOfOursAndTheSummaryTellsWhatRa
     ASSERT_EQ(json.exit_code, 0) << describe(json);
     EXPECT_EQ(json.err, warning) << "-q hides neither the warning nor --json";
     EXPECT_EQ(nlohmann::json::parse(json.out).at("threads"), hardware);
+#ifdef SG_RENDER_EXE
+    const ToolRun render = run_tool(SG_RENDER_EXE, {sg.string(), "-o", (scratch / "i.png").string(),
+                                                    "--width", "16", "--height", "16",
+                                                    "--threads", asked},
+                                    scratch);
+    ASSERT_EQ(render.exit_code, 0) << describe(render);
+    EXPECT_EQ(render.err, warning);
+    EXPECT_NE(render.out.find(ran + ": "), std::string::npos) << render.out;
+#endif
 }
 
 TEST(ToolsConvention, ClashingBuildFlagsAreReportedByFlag)
