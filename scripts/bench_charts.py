@@ -3,7 +3,9 @@
 
 Usage: bench_charts.py RESULTS_JSON OUT_DIR
 
-Writes into OUT_DIR, each PNG replaced atomically (written beside it, then renamed):
+Writes into OUT_DIR, each PNG replaced atomically (written beside it, then renamed), and
+prints one line "wrote PATH" on stdout per chart (sg-bench reads these lines; everything
+else, warnings and errors, goes to stderr):
   figure3.png             the poster's Figure 3 for every scene: traversal time of the path
                           workload, build time and memory per structure
   speed_vs_accuracy.png   Mrays/s against leaks per million on rays from inside a closed
@@ -16,6 +18,7 @@ Charts whose data the run did not measure (no sweep, no scale series) are skippe
 
 import json
 import os
+import secrets
 import sys
 
 import matplotlib
@@ -48,11 +51,18 @@ def label(name):
 
 
 def save(fig, path):
-    """Writes the figure beside `path` first, so a reader never sees half a PNG."""
-    tmp = os.path.join(os.path.dirname(path), "." + os.path.basename(path) + ".tmp.png")
-    fig.savefig(tmp, dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    os.replace(tmp, path)
+    """Writes the figure beside `path` first, so a reader never sees half a PNG. The
+    temporary file is named as the tools name theirs (".<name>.tmp-<pid>-<random>"), so that
+    sg-bench removes it if this script is killed part-way."""
+    tmp = os.path.join(os.path.dirname(path), ".%s.tmp-%d-%s" % (
+        os.path.basename(path), os.getpid(), secrets.token_hex(8)))
+    try:
+        fig.savefig(tmp, dpi=110, bbox_inches="tight", format="png")
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if os.path.exists(tmp):
+            os.remove(tmp)
 
 
 def workload(structure, name):

@@ -62,19 +62,29 @@ void add_camera_flags(CLI::App& app, CameraFlags& flags)
 {
     const std::string group = "Camera (default: automatic framing)";
     add_vec3_option(app, "--eye", flags.eye,
-                    "Camera position. Default: automatic framing, which places the eye so that "
-                    "the scene fills the image, seen from 19 degrees above the ground plane "
-                    "(perpendicular to --up), three-quarter on.");
+                    "Camera position: automatic framing places the eye so that the scene fills "
+                    "the image, seen from 19 degrees above the ground plane (perpendicular to "
+                    "--up), three-quarter on. Default automatic framing.");
     add_vec3_option(app, "--look-at", flags.look_at,
-                    "Point at the image centre. Default: the centre of the scene's outline as "
+                    "Point at the image centre. Default the centre of the scene's outline as "
                     "automatic framing sees it (near the centre of its box).");
     add_vec3_option(app, "--up", flags.up,
                     "Direction that points up in the image, and the scene's up for automatic "
                     "framing (0,0,1 for a z-up scene); must not be parallel to the view. "
                     "Default 0,1,0.");
     app.add_option("--fov", flags.fov_y_degrees,
-                   "Vertical field of view in degrees. Range (0, 180). Default 45.")
-        ->check(number_in(0.0, 180.0, true));
+                   help_text("Vertical field of view in degrees.", "(0, 180)",
+                             number_text(flags.fov_y_degrees)))
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                float value = 0.0f;
+                const char* end = text.data() + text.size();
+                const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+                return ec == std::errc{} && ptr == end && value > 0.0f && value < 180.0f
+                           ? std::string{}
+                           : text + " is not a number in (0, 180)";
+            },
+            "", ""));
     for (const char* name : {"--eye", "--look-at", "--up", "--fov"})
         app.get_option(name)->group(group);
 }

@@ -1,28 +1,28 @@
 #include "cli_common.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <system_error>
 #include <utility>
+#include <variant>
 
+#include "interrupt.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/version.hpp"
 
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <spdlog/version.h>
+#include <tbb/info.h>
+#include <tbb/version.h>
 
 namespace sg::apps {
 namespace {
-
-// Ranges of the BuildConfig fields as build_config.hpp documents them. CLI11 uses them to
-// refuse a bad value at parse time with a usage error; sg::validate() stays the authority.
-constexpr std::uint32_t max_count_flag = 1u << 20;
-constexpr double max_sigma_flag = 1e9;
-constexpr double max_min_cell_width_flag = 1e6;
-constexpr std::uint32_t max_threads_flag = 1024;
 
 /// Keeps an error report on one line even if a message carries a newline (CLI11 and the OS
 /// sometimes do), so that each failure is exactly one line of stderr.
@@ -73,13 +73,6 @@ private:
     }
 };
 
-/// Logs `e` as "error: <message>" and returns `code` as an int.
-int fail(ExitCode code, const std::exception& e)
-{
-    spdlog::error("{}", one_line(e.what()));
-    return static_cast<int>(code);
-}
-
 /// The tools' one logger: stderr, so stdout carries only results (and --json stays clean).
 /// Colours only on a terminal. Messages read "warning: ...", "error: ...".
 void create_logger()
@@ -90,21 +83,73 @@ void create_logger()
     spdlog::set_default_logger(std::move(logger));
 }
 
+/// CLI11's refusal of a flag given twice ("--leaf-size: At Most 1 required but received 2")
+/// said in the tools' words, or nothing if no option was given too often.
+std::optional<std::string> repeated_flag_message(const CLI::App& app)
+{
+    for (const CLI::Option* option : app.get_options()) {
+        const int most = option->get_items_expected_max();
+        if (most < 1 || option->results().size() <= static_cast<std::size_t>(most)) continue;
+        return fmt::format("{} is given {} times ({}); give it once", option->get_name(),
+                           option->results().size(), fmt::join(option->results(), ", "));
+    }
+    return std::nullopt;
+}
+
+/// Ends a tool's run: marks the work finished (if an interrupt came first this does not
+/// return, see InterruptHandling::finish), then logs `message` as the one error line.
+int finish_with(InterruptHandling& interrupts, ExitCode code, const std::string& message)
+{
+    interrupts.finish();
+    if (!message.empty()) spdlog::error("{}", one_line(message));
+    return static_cast<int>(code);
+}
+
+/// A flag's current value as help and error messages print it.
+std::string field_value_text(const BuildConfig& config, const BuildConfigField& field)
+{
+    if (const auto* count = std::get_if<BuildConfigField::CountMember>(&field.member))
+        return std::to_string(config.**count);
+    if (const auto* real = std::get_if<BuildConfigField::RealMember>(&field.member))
+        return number_text(config.**real);
+    return config.*std::get<BuildConfigField::SwitchMember>(field.member) ? "on" : "off";
+}
+
+/// Refuses (as a usage error) a BuildConfig field above the field it may not exceed, by
+/// flag: "--resolution-min 20 is above --resolution-max 16 (its default)".
+void check_field_limits(const CLI::App& app, const BuildConfig& config)
+{
+    for (const BuildConfigField& field : build_config_fields) {
+        if (field.at_most.empty()) continue;
+        const BuildConfigField& limit = *find_build_config_field(field.at_most);
+        const auto value = config.*std::get<BuildConfigField::CountMember>(field.member);
+        const auto limit_value = config.*std::get<BuildConfigField::CountMember>(limit.member);
+        if (value <= limit_value) continue;
+        const std::string flag = build_config_flag(field);
+        const std::string limit_flag = build_config_flag(limit);
+        const bool limit_given = app.count(limit_flag) > 0;
+        throw CLI::ValidationError(fmt::format("{} {} is above {} {}{}", flag, value, limit_flag,
+                                               limit_value, limit_given ? "" : " (its default)"));
+    }
+}
+
 }  // namespace
 
-CLI::Validator uint_in(std::uint32_t lo, std::uint32_t hi)
+CLI::Validator count_in(std::uint64_t lo, std::uint64_t hi)
 {
     return CLI::Validator(
         [lo, hi](std::string& text) -> std::string {
-            std::uint32_t value = 0;
+            std::uint64_t value = 0;
             const char* end = text.data() + text.size();
             const auto [ptr, ec] = std::from_chars(text.data(), end, value);
             if (ec != std::errc{} || ptr != end || value < lo || value > hi)
-                return fmt::format("{} is not an integer in [{}, {}]", text, lo, hi);
+                return fmt::format("{} is not an integer in {}", text, count_range(lo, hi));
             return {};
         },
         "", "");
 }
+
+CLI::Validator uint_in(std::uint32_t lo, std::uint32_t hi) { return count_in(lo, hi); }
 
 CLI::Validator number_in(double lo, double hi, bool open_below)
 {
@@ -116,124 +161,161 @@ CLI::Validator number_in(double lo, double hi, bool open_below)
             // Written so that NaN fails: every comparison with NaN is false.
             const bool above_lo = open_below ? value > lo : value >= lo;
             if (ec != std::errc{} || ptr != end || !(above_lo && value <= hi))
-                return fmt::format("{} is not a number in {}{}, {}]", text, open_below ? '(' : '[',
-                                   lo, hi);
+                return fmt::format("{} is not a number in {}", text,
+                                   real_range(lo, hi, open_below));
             return {};
         },
         "", "");
 }
 
-void describe_tool(CLI::App& app, const std::string& description, const std::string& extra_footer)
+std::string count_range(std::uint64_t lo, std::uint64_t hi)
+{
+    return fmt::format("[{}, {}]", lo, hi);
+}
+
+std::string number_text(double value)
+{
+    // {:g} writes 1e+09; help texts and messages write 1e9.
+    std::string text = fmt::format("{:g}", value);
+    const std::size_t e = text.find("e+");
+    if (e != std::string::npos) {
+        std::size_t digits = e + 2;
+        while (digits + 1 < text.size() && text[digits] == '0') ++digits;
+        text = text.substr(0, e + 1) + text.substr(digits);
+    }
+    return text;
+}
+
+std::string real_range(double lo, double hi, bool open_below)
+{
+    return fmt::format("{}{}, {}]", open_below ? '(' : '[', number_text(lo), number_text(hi));
+}
+
+std::string help_text(std::string_view help, std::string_view range,
+                      std::string_view default_value)
+{
+    std::string text(help);
+    if (!range.empty()) text += fmt::format(" Range {}.", range);
+    text += fmt::format(" Default {}.", default_value);
+    return text;
+}
+
+CLI::Option* add_output_option(CLI::App& app, std::filesystem::path& path,
+                               const std::string& description, bool required,
+                               const std::string& type_name)
+{
+    CLI::Option* option =
+        app.add_option("-o,--output,--out", path, description)
+            ->type_name(type_name)
+            ->check(CLI::Validator(
+                [](std::string& text) -> std::string {
+                    if (text.empty()) return "the output name is empty";
+                    if (text == "-")
+                        return "- (standard output) is not supported: the output is written "
+                               "to a file, atomically; give a file name";
+                    return {};
+                },
+                "", ""));
+    if (required) option->required();
+    return option;
+}
+
+std::string version_text(const std::string& tool,
+                         const std::vector<LibraryVersion>& extra_libraries)
+{
+    std::vector<LibraryVersion> libraries{{"oneTBB", TBB_runtime_version()}};
+    for (LibraryVersion& library : formats_library_versions())
+        libraries.push_back(std::move(library));
+    libraries.push_back({"CLI11", CLI11_VERSION});
+    libraries.push_back(
+        {"spdlog", fmt::format("{}.{}.{}", SPDLOG_VER_MAJOR, SPDLOG_VER_MINOR, SPDLOG_VER_PATCH)});
+    libraries.push_back({"nlohmann-json", fmt::format("{}.{}.{}", NLOHMANN_JSON_VERSION_MAJOR,
+                                                      NLOHMANN_JSON_VERSION_MINOR,
+                                                      NLOHMANN_JSON_VERSION_PATCH)});
+    libraries.insert(libraries.end(), extra_libraries.begin(), extra_libraries.end());
+    std::string text = fmt::format("{} {} (splitgrid {})\nlinked with:", tool, version_string,
+                                   version_string);
+    for (const LibraryVersion& library : libraries)
+        text += fmt::format("\n  {} {}", library.name, library.version);
+    return text;
+}
+
+void describe_tool(CLI::App& app, const std::string& description, const std::string& extra_footer,
+                   const std::vector<LibraryVersion>& extra_libraries)
 {
     app.description(description);
-    app.set_version_flag("--version", std::string(version_string));
+    const std::string tool = app.get_name();
+    app.set_version_flag(
+        "--version", [tool, extra_libraries] { return version_text(tool, extra_libraries); },
+        "Print the tool's version and the versions of the libraries it links, and exit");
     app.formatter(std::make_shared<WrappingFormatter>());
     std::string footer = extra_footer.empty() ? std::string{} : extra_footer + "\n\n";
     footer +=
         "Exit codes:\n"
         "  0  ok\n"
         "  1  usage error: unknown flag, missing or out-of-range value\n"
-        "  2  bad input or file: missing, unreadable or malformed file, unusable mesh or rays\n"
-        "  3  internal error";
+        "  2  bad input or file: missing, unreadable or malformed file, unusable mesh or rays,\n"
+        "     an output that is one of the inputs or that cannot be written\n"
+        "  3  internal error\n"
+        "  130, 143  interrupted by SIGINT (Ctrl-C) or SIGTERM: temporary files removed";
     app.footer(footer);
 }
 
 void add_log_flags(CLI::App& app, LogOptions& options)
 {
     auto* verbose = app.add_flag("-v,--verbose", options.verbose, "Also print debug messages");
-    auto* quiet = app.add_flag("-q,--quiet", options.quiet, "Print errors only");
+    auto* quiet = app.add_flag("-q,--quiet", options.quiet,
+                               "Hide progress, information and the summary of a tool that "
+                               "writes a file; warnings, errors and results on stdout "
+                               "(statistics, --json) still print");
     verbose->excludes(quiet);
+}
+
+std::string build_config_flag(const BuildConfigField& field)
+{
+    std::string flag = "--" + std::string(field.name);
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    return flag;
 }
 
 void add_build_config_flags(CLI::App& app, BuildConfig& config, bool with_threads)
 {
     const BuildConfig defaults{};
     const std::string group = "Build parameters (BuildConfig)";
-    app.add_option("--resolution-min", config.resolution_min,
-                   fmt::format("Fewest cells of an inner node, used by small nodes near the "
-                               "leaves (2 makes them binary splits). Range [1, {}], at most "
-                               "--resolution-max. Default {}.",
-                               max_count_flag, defaults.resolution_min))
-        ->check(uint_in(1, max_count_flag))
-        ->group(group);
-    app.add_option("--resolution-max", config.resolution_max,
-                   fmt::format("Most cells of an inner node, reached by nodes with several "
-                               "sigma triangles (near the root). Range [2, {}], at least "
-                               "--resolution-min. Default {}.",
-                               max_count_flag, defaults.resolution_max))
-        ->check(uint_in(2, max_count_flag))
-        ->group(group);
-    app.add_option("--resolution-sigma", config.resolution_sigma,
-                   fmt::format("Width of the Gaussian resolution function, in triangles: a "
-                               "node with sigma triangles gets 39% of the way from min to max "
-                               "cells, 2 sigma 86%, 3 sigma 99%. Range (0, {:g}]. Default {:g}.",
-                               max_sigma_flag, defaults.resolution_sigma))
-        ->check(number_in(0.0, max_sigma_flag, true))
-        ->group(group);
-    app.add_option("--leaf-size", config.leaf_size,
-                   fmt::format("A cell with at most this many triangles becomes a leaf. "
-                               "Range [1, {}]. Default {}.",
-                               max_count_flag, defaults.leaf_size))
-        ->check(uint_in(1, max_count_flag))
-        ->group(group);
-    app.add_option("--max-depth", config.max_depth,
-                   fmt::format("Deepest inner node (the root is depth 0); cells of a node at "
-                               "this depth become leaves. Range [0, {}]. Default {}.",
-                               max_supported_depth, defaults.max_depth))
-        ->check(uint_in(0, max_supported_depth))
-        ->group(group);
-    app.add_option("--no-progress-fraction", config.no_progress_fraction,
-                   fmt::format("A split makes no progress when two or more cells, or every "
-                               "non-empty cell, would receive more than this fraction of the "
-                               "node's triangles; it is retried on the other axes before the "
-                               "node becomes a leaf. Range (0, 1]. Default {:g}.",
-                               defaults.no_progress_fraction))
-        ->check(number_in(0.0, 1.0, true))
-        ->group(group);
-    app.add_option("--min-cell-width", config.min_cell_width,
-                   fmt::format("Cells are never narrower than this many times the mean extent "
-                               "of the node's triangles along the split axis (slicing finer "
-                               "than the triangles only copies references); 0 disables the "
-                               "cap. Range [0, {:g}]. Default {:g}.",
-                               max_min_cell_width_flag, defaults.min_cell_width))
-        ->check(number_in(0.0, max_min_cell_width_flag, false))
-        ->group(group);
-    app.add_flag("--stop-by-cost,!--no-stop-by-cost", config.stop_by_cost,
-                 fmt::format("Keep a split only if it lowers the expected traversal cost of "
-                             "the surface-area model (sg-stats), with its cells taken as "
-                             "leaves; a split that fails is retried on the other axes. "
-                             "Default {}.",
-                             defaults.stop_by_cost ? "--stop-by-cost" : "--no-stop-by-cost"))
-        ->group(group);
-    app.add_flag("--bounding-planes,!--no-bounding-planes", config.bounding_planes,
-                 fmt::format("Cut each node's slab down to the tight extent of its triangles "
-                             "along the split axis (the Split Grid's bounding planes); "
-                             "--no-bounding-planes uses the node box's faces, a plain nested "
-                             "grid. Default {}.",
-                             defaults.bounding_planes ? "--bounding-planes"
-                                                      : "--no-bounding-planes"))
-        ->group(group);
-    app.add_flag("--clip-triangles,!--no-clip-triangles", config.clip_triangles,
-                 fmt::format("Reference a triangle only in the cells the triangle itself "
-                             "touches (exact clipping); --no-clip-triangles uses its bounding "
-                             "box instead, which builds faster and makes more references. "
-                             "Default {}.",
-                             defaults.clip_triangles ? "--clip-triangles"
-                                                     : "--no-clip-triangles"))
-        ->group(group);
-    if (with_threads)
-        app.add_option("--threads", config.threads,
-                       fmt::format("Worker threads for the build, 0 = all hardware threads; the "
-                                   "output is bit-identical for every value. Range [0, {}]. "
-                                   "Default {}.",
-                                   max_threads_flag, defaults.threads))
-            ->check(uint_in(0, max_threads_flag))
-            ->group(group);
+    for (const BuildConfigField& field : build_config_fields) {
+        if (field.name == "threads" && !with_threads) continue;
+        const std::string flag = build_config_flag(field);
+        if (const auto* switched = std::get_if<BuildConfigField::SwitchMember>(&field.member)) {
+            const std::string off = "--no-" + flag.substr(2);
+            app.add_flag(flag + ",!" + off, config.**switched,
+                         help_text(field.help, {}, defaults.**switched ? flag : off))
+                ->group(group);
+            continue;
+        }
+        std::string range;
+        CLI::Validator check;
+        if (field.is_count()) {
+            range = count_range(static_cast<std::uint64_t>(field.low),
+                                static_cast<std::uint64_t>(field.high));
+            check = count_in(static_cast<std::uint64_t>(field.low),
+                             static_cast<std::uint64_t>(field.high));
+        } else {
+            range = real_range(field.low, field.high, field.low_open);
+            check = number_in(field.low, field.high, field.low_open);
+        }
+        if (!field.at_most.empty())
+            range += ", at most " + build_config_flag(*find_build_config_field(field.at_most));
+        const std::string help = help_text(field.help, range, field_value_text(defaults, field));
+        std::visit([&](auto member) { app.add_option(flag, config.*member, help); },
+                   field.member);
+        app.get_option(flag)->check(check)->group(group);
+    }
 
     // Fields that are fine alone can still be wrong together (resolution_min above
-    // resolution_max): the library's own check decides, and since the user typed the values,
-    // its refusal is reported as a usage error like any other bad flag value.
-    app.parse_complete_callback([&config] {
+    // resolution_max): refused by flag, as a usage error like any other bad flag value. The
+    // library's own check stays the final authority.
+    app.parse_complete_callback([&app, &config] {
+        check_field_limits(app, config);
         try {
             validate(config);
         } catch (const ConfigError& e) {
@@ -245,51 +327,58 @@ void add_build_config_flags(CLI::App& app, BuildConfig& config, bool with_thread
 int run_tool(CLI::App& app, int argc, const char* const* argv, const LogOptions& log,
              const std::function<void()>& work)
 {
+    // First, before any thread exists: every later thread and child inherits the blocked
+    // signals (interrupt.hpp).
+    InterruptHandling interrupts;
     create_logger();
     try {
         app.parse(argc, argv);
         if (log.quiet)
-            spdlog::set_level(spdlog::level::err);
+            spdlog::set_level(spdlog::level::warn);
         else if (log.verbose)
             spdlog::set_level(spdlog::level::debug);
         work();
-        return static_cast<int>(ExitCode::ok);
+        return finish_with(interrupts, ExitCode::ok, {});
     } catch (const CLI::ParseError& e) {
         // --help and --version arrive as "errors" with CLI11's success code.
         if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) {
+            interrupts.finish();
             app.exit(e);
             return static_cast<int>(ExitCode::ok);
         }
-        spdlog::error("{} (run with --help for usage)", one_line(e.what()));
-        return static_cast<int>(ExitCode::usage);
+        const std::string message = repeated_flag_message(app).value_or(e.what());
+        return finish_with(interrupts, ExitCode::usage, message + " (run with --help for usage)");
     } catch (const InputError& e) {
-        return fail(ExitCode::bad_input, e);
+        return finish_with(interrupts, ExitCode::bad_input, e.what());
     } catch (const FormatError& e) {
-        return fail(ExitCode::bad_input, e);
+        return finish_with(interrupts, ExitCode::bad_input, e.what());
     } catch (const IoError& e) {
-        return fail(ExitCode::bad_input, e);
+        return finish_with(interrupts, ExitCode::bad_input, e.what());
     } catch (const ConfigError& e) {
-        return fail(ExitCode::bad_input, e);
+        return finish_with(interrupts, ExitCode::bad_input, e.what());
     } catch (const std::filesystem::filesystem_error& e) {
         // Raised by the tools' own file queries (file sizes); its message names the path.
-        return fail(ExitCode::bad_input, e);
+        return finish_with(interrupts, ExitCode::bad_input, e.what());
     } catch (const std::exception& e) {
-        return fail(ExitCode::internal, e);
+        return finish_with(interrupts, ExitCode::internal, e.what());
     } catch (...) {
-        spdlog::error("unknown exception");
-        return static_cast<int>(ExitCode::internal);
+        return finish_with(interrupts, ExitCode::internal, "unknown exception");
     }
 }
 
-void check_output_path(const std::filesystem::path& path)
+unsigned threads_to_use(unsigned requested, std::string_view flag)
 {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    if (fs::is_directory(path, ec))
-        throw IoError(path.string() + ": is a directory, expected a file name");
-    const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
-    if (!fs::is_directory(folder, ec))
-        throw IoError(path.string() + ": folder " + folder.string() + " does not exist");
+    const auto hardware = static_cast<unsigned>(std::max(1, tbb::info::default_concurrency()));
+    if (requested <= hardware) return requested;
+    spdlog::warn("{} {} is more than the {} hardware thread{}; using {}", flag, requested,
+                 hardware, hardware == 1 ? "" : "s", hardware);
+    return hardware;
+}
+
+unsigned threads_that_run(unsigned threads)
+{
+    return threads != 0 ? threads
+                        : static_cast<unsigned>(std::max(1, tbb::info::default_concurrency()));
 }
 
 double per_triangle(std::size_t bytes, std::size_t triangles) noexcept
@@ -330,24 +419,21 @@ double seconds_since(std::chrono::steady_clock::time_point start) noexcept
 
 Json to_json(const BuildConfig& config)
 {
-    // The structured binding stops compiling when a field is added to BuildConfig: then add it
-    // here, in add_build_config_flags() and in docs/STATS_JSON.md.
-    const auto& [resolution_min, resolution_max, resolution_sigma, leaf_size, max_depth,
-                 no_progress_fraction, min_cell_width, stop_by_cost, bounding_planes,
-                 clip_triangles, threads] = config;
     Json j;
-    j["resolution_min"] = resolution_min;
-    j["resolution_max"] = resolution_max;
-    j["resolution_sigma"] = resolution_sigma;
-    j["leaf_size"] = leaf_size;
-    j["max_depth"] = max_depth;
-    j["no_progress_fraction"] = no_progress_fraction;
-    j["min_cell_width"] = min_cell_width;
-    j["stop_by_cost"] = stop_by_cost;
-    j["bounding_planes"] = bounding_planes;
-    j["clip_triangles"] = clip_triangles;
-    j["threads"] = threads;
+    for (const BuildConfigField& field : build_config_fields)
+        std::visit([&](auto member) { j[std::string(field.name)] = config.*member; },
+                   field.member);
     return j;
+}
+
+std::string to_text(const BuildConfig& config)
+{
+    std::string text;
+    for (const BuildConfigField& field : build_config_fields) {
+        if (!text.empty()) text += ", ";
+        text += fmt::format("{} {}", field.name, field_value_text(config, field));
+    }
+    return text;
 }
 
 Json to_json(const GridStats& stats)

@@ -2,8 +2,10 @@
 /// same scenes and the same rays: build time, memory, rays per second and correctness, as a
 /// table on stdout, results.json, results.csv and PNG charts in the output folder.
 
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -14,10 +16,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <system_error>
-#include <thread>
 #include <vector>
 
 #include "bench_report.hpp"
@@ -25,6 +27,8 @@
 #include "cli_common.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/formats/mesh_import.hpp"
+#include "splitgrid/formats/output_file.hpp"
+#include "splitgrid/formats/temporary_paths.hpp"
 #include "splitgrid/formats/text_file.hpp"
 
 #include <spdlog/fmt/fmt.h>
@@ -118,17 +122,91 @@ std::string size_label(std::size_t n)
     return fmt::format("{:g}e{}", mantissa, exponent);
 }
 
-sg::bench::BenchScene load_scene(const fs::path& path)
+/// The charts scripts/bench_charts.py draws, each from a part of the run (docs/BENCH.md).
+struct Chart {
+    const char* file;
+    const char* needs;  ///< why it may be missing, for the notice
+};
+constexpr Chart charts[] = {
+    {"figure3.png", "at least one scene"},
+    {"speed_vs_accuracy.png", "the watertightness workload (--watertight-rays above 0)"},
+    {"sweep_build_vs_trace.png", "the parameter sweep (left out by --no-sweep)"},
+    {"memory_scaling.png", "the scale series (--scale-sizes)"},
+};
+
+/// Whether the run measures what `chart` draws.
+bool chart_has_data(const Chart& chart, const BenchPlan& plan, bool has_scale_model)
+{
+    const std::string file = chart.file;
+    if (file == "speed_vs_accuracy.png") return plan.watertight_rays > 0;
+    if (file == "sweep_build_vs_trace.png") return plan.sweep;
+    if (file == "memory_scaling.png") return !plan.scale_sizes.empty() && has_scale_model;
+    return true;
+}
+
+/// Every file sg-bench may write into the output folder.
+std::vector<fs::path> output_files(const fs::path& out)
+{
+    std::vector<fs::path> files{out / "results.json", out / "results.csv"};
+    for (const Chart& chart : charts) files.push_back(out / chart.file);
+    return files;
+}
+
+/// Refuses a run whose outputs would replace one of `inputs` (`read_by` as in
+/// refuse_output_over_input).
+void refuse_outputs_over(const fs::path& out, const std::vector<fs::path>& inputs,
+                         const fs::path& read_by = {})
+{
+    sg::apps::refuse_output_over_input(out, inputs, read_by);
+    for (const fs::path& file : output_files(out))
+        sg::apps::refuse_output_over_input(file, inputs, read_by);
+}
+
+sg::bench::BenchScene load_scene(const fs::path& path, const fs::path& out)
 {
     sg::ImportedMesh imported = sg::import_mesh(path);
+    refuse_outputs_over(out, sg::apps::as_paths(imported.report.opened_files), path);
     for (const std::string& warning : imported.report.warnings) spdlog::warn("{}", warning);
     if (imported.mesh.triangles.empty())
         throw sg::InputError(path.string() + ": no usable triangles");
     return {path.stem().string(), path.string(), std::move(imported.mesh)};
 }
 
-// Runs the chart script; a failure is a warning, since the JSON and CSV are written already.
-void make_charts(const Options& options, const fs::path& json)
+/// Scene names are file stems, which repeat (two glTF scenes are both "scene.gltf"): a stem
+/// that several scene files share gets its folder's name in front ("balloon_scene"), and a
+/// name that still repeats a number behind ("scene_2"), so that every scene's results can be
+/// told apart.
+void make_names_unique(std::vector<sg::bench::BenchScene>& scenes,
+                       const std::vector<fs::path>& files)
+{
+    const auto count_of = [&](const std::string& name) {
+        return std::count_if(scenes.begin(), scenes.end(),
+                             [&](const sg::bench::BenchScene& s) { return s.name == name; });
+    };
+    std::vector<std::string> names;
+    for (std::size_t k = 0; k < scenes.size(); ++k) {
+        std::string name = scenes[k].name;
+        if (k < files.size() && count_of(name) > 1 && files[k].has_parent_path() &&
+            files[k].parent_path().has_filename())
+            name = files[k].parent_path().filename().string() + "_" + name;
+        names.push_back(name);
+    }
+    for (std::size_t k = 0; k < scenes.size(); ++k) {
+        std::string name = names[k];
+        for (int n = 2; std::count(names.begin(), names.begin() + static_cast<std::ptrdiff_t>(k),
+                                   name) > 0;
+             ++n)
+            name = names[k] + "_" + std::to_string(n);
+        names[k] = name;
+        scenes[k].name = name;
+    }
+}
+
+/// Runs the chart script with its stdout read through a pipe: its "wrote PATH" lines become
+/// the list of charts (logged on stderr, so that stdout keeps only the table); its stderr is
+/// ours. A failure is a warning, since the JSON and CSV are written already. Returns the
+/// charts written.
+std::vector<fs::path> make_charts(const Options& options, const fs::path& json)
 {
     // Debian's interpreter, where python3-matplotlib lives, before any other python3.
     const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
@@ -137,18 +215,57 @@ void make_charts(const Options& options, const fs::path& json)
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
-    pid_t pid = 0;
-    const int error = ::posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ);
-    if (error != 0) {
-        spdlog::warn("charts not made: cannot start python3: {}", std::strerror(error));
-        return;
+    int pipe_fds[2];
+    if (::pipe2(pipe_fds, O_CLOEXEC) != 0) {
+        spdlog::warn("charts not made: cannot create a pipe: {}", std::strerror(errno));
+        return {};
     }
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
+    // An interrupt kills the script (which, like every child, does not see SIGINT and
+    // SIGTERM itself: it inherits their block) and removes the temporary files it leaves
+    // beside the charts. Spawned and registered under one hold of the cleanup registry.
+    std::vector<sg::CleanupEntry> cleanup;
+    pid_t pid = 0;
+    int error = 0;
+    {
+        const sg::CleanupHold hold = sg::hold_off_cleanup();
+        error = ::posix_spawnp(&pid, python.c_str(), &actions, nullptr, argv.data(), environ);
+        if (error == 0) cleanup.push_back(sg::CleanupEntry::process(pid, hold));
+    }
+    posix_spawn_file_actions_destroy(&actions);
+    ::close(pipe_fds[1]);
+    if (error != 0) {
+        ::close(pipe_fds[0]);
+        spdlog::warn("charts not made: cannot start python3: {}", std::strerror(error));
+        return {};
+    }
+    for (const Chart& chart : charts)
+        cleanup.push_back(sg::CleanupEntry::stale_temporaries(options.out / chart.file, "tmp"));
+
+    std::string said;
+    char buffer[4096];
+    for (;;) {
+        const ssize_t n = ::read(pipe_fds[0], buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        said.append(buffer, static_cast<std::size_t>(n));
+    }
+    ::close(pipe_fds[0]);
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) break;
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        if (errno != EINTR) return {};  // reaped by the interrupt cleanup
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
         spdlog::warn("charts not made: {} failed (python3-matplotlib installed?)",
                      options.charts_script.string());
+        return {};
+    }
+    std::vector<fs::path> written;
+    std::istringstream lines(said);
+    for (std::string line; std::getline(lines, line);)
+        if (line.rfind("wrote ", 0) == 0) written.emplace_back(line.substr(6));
+    return written;
 }
 
 void apply_quick_defaults(CLI::App& app, Options& o)
@@ -166,6 +283,31 @@ void apply_quick_defaults(CLI::App& app, Options& o)
     if (unset("--sweep-rays")) p.sweep_rays = 20'000;
 }
 
+/// Embree, for --version, when this build measures it.
+std::vector<sg::LibraryVersion> embree_library()
+{
+    if (!sg::bench::has_embree()) return {};
+    return {{"Embree", sg::bench::embree_version()}};
+}
+
+/// The thread counts of --threads (or 1 and the hardware's), each at most the hardware's
+/// threads (one warning otherwise, threads_to_use), without repeats.
+std::vector<unsigned> thread_counts_of(const std::string& text)
+{
+    std::vector<unsigned> asked = threads_of(text);
+    if (asked.empty()) {
+        asked = {1};
+        const unsigned hw = sg::apps::threads_that_run(0);
+        if (hw > 1) asked.push_back(hw);
+    }
+    std::vector<unsigned> counts;
+    for (const unsigned t : asked) {
+        const unsigned used = sg::apps::threads_to_use(t);
+        if (std::find(counts.begin(), counts.end(), used) == counts.end()) counts.push_back(used);
+    }
+    return counts;
+}
+
 void bench(CLI::App& app, Options& o)
 {
     const auto start = std::chrono::steady_clock::now();
@@ -180,31 +322,39 @@ void bench(CLI::App& app, Options& o)
             throw CLI::ValidationError(fmt::format(
                 "--structures: unknown structure '{}' (this build knows {})", s, fmt::join(names, ", ")));
     }
-    plan.thread_counts = threads_of(o.threads_text);
-    if (plan.thread_counts.empty()) {
-        plan.thread_counts = {1};
-        const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-        if (hw > 1) plan.thread_counts.push_back(hw);
-    }
+    plan.thread_counts = thread_counts_of(o.threads_text);
     plan.scale_sizes = counts_of(o.scale_sizes_text, "--scale-sizes");
     const std::vector<std::size_t> arena_sizes = counts_of(o.arena_sizes_text, "--arena-sizes");
     if (o.meshes.empty() && (arena_sizes.empty() || o.scale_model.empty()))
         throw CLI::ValidationError("give at least one MESH (or --arena-sizes with --scale-model)");
 
-    // Check the output folder before any long work: its parent must exist.
+    // The outputs are checked and reserved before any long work: the folder's parent must
+    // exist, no output may be an input, and results.json and results.csv get their
+    // temporary files now (so a folder that cannot be written is found at once).
+    std::vector<fs::path> inputs = o.meshes;
+    if (!o.scale_model.empty()) inputs.push_back(o.scale_model);
+    inputs.push_back(o.charts_script);
+    refuse_outputs_over(o.out, inputs);
     const fs::path parent = o.out.has_parent_path() ? o.out.parent_path() : fs::path(".");
     if (!fs::is_directory(parent))
         throw sg::IoError(o.out.string() + ": folder " + parent.string() + " does not exist");
     if (fs::exists(o.out) && !fs::is_directory(o.out))
         throw sg::IoError(o.out.string() + ": exists and is not a folder");
+    sg::apps::OutputFolder folder(o.out);
+    const fs::path json = o.out / "results.json";
+    const fs::path csv = o.out / "results.csv";
+    const std::unique_ptr<sg::OutputFile> json_output = sg::apps::reserve_output(json);
+    const std::unique_ptr<sg::OutputFile> csv_output = sg::apps::reserve_output(csv);
+    for (const Chart& chart : charts)
+        sg::apps::report_stale_removed(sg::remove_stale_temporaries(o.out / chart.file, "tmp"));
 
     std::vector<sg::bench::BenchScene> scenes;
     for (const fs::path& m : o.meshes) {
         spdlog::debug("loading {}", m.string());
-        scenes.push_back(load_scene(m));
+        scenes.push_back(load_scene(m, o.out));
     }
     sg::bench::BenchScene model;
-    if (!o.scale_model.empty()) model = load_scene(o.scale_model);
+    if (!o.scale_model.empty()) model = load_scene(o.scale_model, o.out);
     else if (!scenes.empty()) model = scenes.front();
     for (const std::size_t n : arena_sizes) {
         sg::bench::BenchScene arena;
@@ -214,6 +364,7 @@ void bench(CLI::App& app, Options& o)
                                    arena.mesh.triangles.size());
         scenes.push_back(std::move(arena));
     }
+    make_names_unique(scenes, o.meshes);
 
     const sg::bench::BenchResults results = sg::bench::run_bench(
         scenes, model, plan, [](const std::string& line) { spdlog::info("{}", line); });
@@ -221,17 +372,26 @@ void bench(CLI::App& app, Options& o)
     sg::bench::RunInfo info;
     info.quick = o.quick;
     info.machine = cpu_model();
-    info.hardware_threads = std::thread::hardware_concurrency();
+    info.hardware_threads = sg::apps::threads_that_run(0);
     info.compiler = "g++ " __VERSION__;
     info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    fs::create_directories(o.out);
-    const fs::path json = o.out / "results.json";
-    sg::write_text_file(json, sg::bench::results_json(results, plan, info).dump(2) + "\n");
-    sg::write_text_file(o.out / "results.csv", sg::bench::results_csv(results, plan));
-    std::cout << sg::bench::results_table(results, plan);
-    if (!o.no_charts) make_charts(o, json);
-    std::cout << fmt::format("\nwrote {} and results.csv in {:.1f} s\n", json.string(), info.seconds);
+    sg::write_text_file(*json_output, sg::bench::results_json(results, plan, info).dump(2) + "\n");
+    sg::write_text_file(*csv_output, sg::bench::results_csv(results, plan));
+    folder.keep();
+    std::cout << sg::bench::results_table(results, plan) << std::flush;
+
+    std::vector<fs::path> written{json, csv};
+    if (!o.no_charts) {
+        const bool has_scale_model = !model.mesh.triangles.empty();
+        for (const Chart& chart : charts)
+            if (!chart_has_data(chart, plan, has_scale_model))
+                spdlog::info("no {}: it needs {}", chart.file, chart.needs);
+        for (const fs::path& chart : make_charts(o, json)) written.push_back(chart);
+    }
+    spdlog::info("the run took {:.1f} s and wrote:",
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    for (const fs::path& file : written) spdlog::info("  {}", file.string());
 }
 
 }  // namespace
@@ -253,63 +413,84 @@ int main(int argc, char** argv)
         "scene), path (those rays plus up to --bounces diffuse bounces each, the paper's\n"
         "Figure 3 workload), incoherent (random origins in the scene box, random directions),\n"
         "shadow (any-hit rays from primary hits to a light above the scene).\n"
-        "Outputs in --out: results.json (docs/BENCH.md), results.csv, and *.png charts made\n"
-        "by scripts/bench_charts.py (python3-matplotlib). Timings depend on the machine's\n"
-        "load: compare structures within one run.");
+        "Outputs in -o/--output: results.json (docs/BENCH.md), results.csv, and the charts\n"
+        "of scripts/bench_charts.py (python3-matplotlib): figure3.png, speed_vs_accuracy.png\n"
+        "(not with --watertight-rays 0), sweep_build_vs_trace.png (not with --no-sweep) and\n"
+        "memory_scaling.png (only with --scale-sizes). stdout holds the table; progress,\n"
+        "notices and the list of files written go to stderr. Timings depend on the\n"
+        "machine's load: compare structures within one run.",
+        embree_library());
     app.add_option("MESH", o.meshes, "Scenes to measure (any mesh Assimp reads)");
-    app.add_option("-o,--out", o.out, "Output folder, created if missing (its parent must exist)")
-        ->capture_default_str();
+    sg::apps::add_output_option(app, o.out,
+                                sg::apps::help_text("Output folder, created if missing (its "
+                                                    "parent must exist).",
+                                                    {}, o.out.string()),
+                                false, "DIR");
     app.add_flag("--quick", o.quick,
                  "Small workloads and one repeat, for a smoke test in under a minute: 160x120 "
                  "images, 20k incoherent rays, 10k-triangle sphere; flags given explicitly win");
     app.add_option("--structures", o.structures_text,
-                   "Structures to measure, comma-separated, the first being the reference of "
-                   "the cross-check (default: all this build has: " +
-                       fmt::format("{}", fmt::join(sg::bench::structure_names(), ",")) + ")")
-        ;
+                   sg::apps::help_text("Structures to measure, comma-separated, the first being "
+                                       "the reference of the cross-check.",
+                                       {},
+                                       "all this build has: " +
+                                           fmt::format("{}", fmt::join(sg::bench::structure_names(), ","))))
+        ->type_name("LIST");
     app.add_option("--threads", o.threads_text,
-                   "Thread counts to build and trace with, comma-separated (default: 1 and "
-                   "the hardware threads)")
-        ;
+                   sg::apps::help_text("Thread counts to build and trace with, comma-separated "
+                                       "(above the hardware's threads: the hardware's, with a "
+                                       "warning).",
+                                       "[1, 1024] each", "1 and the hardware threads"))
+        ->type_name("LIST");
     app.add_option("--scale-model", o.scale_model,
-                   "Mesh the scale series and arena scenes are made from (default: first MESH)");
+                   sg::apps::help_text("Mesh the scale series and arena scenes are made from.",
+                                       {}, "the first MESH"))
+        ->type_name("MESH");
     app.add_option("--scale-sizes", o.scale_sizes_text,
-                   "Triangle counts of the memory-against-size series, comma-separated, e.g. "
-                   "1e3,1e4,1e5,1e6,1e7 (default: none). Below the model's size a patch of it, "
-                   "above it copies in an arena")
-        ;
+                   sg::apps::help_text("Triangle counts of the memory-against-size series (and "
+                                       "its chart), comma-separated, e.g. 1e3,1e4,1e5,1e6,1e7. "
+                                       "Below the model's size a patch of it, above it copies "
+                                       "in an arena.",
+                                       {}, "none"))
+        ->type_name("LIST");
     app.add_option("--arena-sizes", o.arena_sizes_text,
-                   "Also measure arena scenes of these triangle counts (copies of the scale "
-                   "model on a floor, make_arena_scene), e.g. 2.5e6,1e7")
-        ;
-    app.add_option("--width", o.plan.sizes.width, "Image width of the primary and path rays")
-        ->check(CLI::Range(1, 16384))->capture_default_str();
-    app.add_option("--height", o.plan.sizes.height, "Image height")
-        ->check(CLI::Range(1, 16384))->capture_default_str();
-    app.add_option("--bounces", o.plan.sizes.bounces, "Diffuse bounces of the path workload")
-        ->check(CLI::Range(0u, 64u))->capture_default_str();
-    app.add_option("--incoherent-rays", o.plan.sizes.incoherent_rays, "Rays of the incoherent workload")
-        ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30))->capture_default_str();
-    app.add_option("--build-repeats", o.plan.build_repeats, "Builds per structure and thread count")
-        ->check(CLI::Range(1u, 1000u))->capture_default_str();
-    app.add_option("--trace-repeats", o.plan.trace_repeats, "Passes per workload and thread count")
-        ->check(CLI::Range(1u, 1000u))->capture_default_str();
-    app.add_option("--oracle-rays", o.plan.oracle_rays,
-                   "Brute-force sample per workload (fewer on big scenes: at most 4e8 "
-                   "ray/triangle tests per sample, at least 20 rays)")
-        ->check(CLI::Range(std::size_t{0}, std::size_t{1} << 24))->capture_default_str();
-    app.add_option("--watertight-triangles", o.plan.watertight_triangles,
-                   "Triangles of the closed sphere of the watertightness workload")
-        ->check(CLI::Range(std::size_t{100}, std::size_t{1} << 26))->capture_default_str();
-    app.add_option("--watertight-rays", o.plan.watertight_rays,
-                   "Rays from inside the sphere, per position (0 skips the workload)")
-        ->check(CLI::Range(std::size_t{0}, std::size_t{1} << 30))->capture_default_str();
-    app.add_option("--sweep-rays", o.plan.sweep_rays, "Path rays traced per sweep point")
-        ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30))->capture_default_str();
-    app.add_flag("--no-sweep", o.no_sweep, "Skip the Split Grid parameter sweep");
+                   sg::apps::help_text("Also measure arena scenes of these triangle counts "
+                                       "(copies of the scale model on a floor, "
+                                       "make_arena_scene), e.g. 2.5e6,1e7.",
+                                       {}, "none"))
+        ->type_name("LIST");
+    sg::apps::add_count_option(app, "--width", o.plan.sizes.width, 1, 16384,
+                               "Image width of the primary and path rays.");
+    sg::apps::add_count_option(app, "--height", o.plan.sizes.height, 1, 16384, "Image height.");
+    sg::apps::add_count_option(app, "--bounces", o.plan.sizes.bounces, 0, 64,
+                               "Diffuse bounces of the path workload.");
+    sg::apps::add_count_option(app, "--incoherent-rays", o.plan.sizes.incoherent_rays, 1,
+                               std::uint64_t{1} << 30, "Rays of the incoherent workload.");
+    sg::apps::add_count_option(app, "--build-repeats", o.plan.build_repeats, 1, 1000,
+                               "Builds per structure and thread count.");
+    sg::apps::add_count_option(app, "--trace-repeats", o.plan.trace_repeats, 1, 1000,
+                               "Passes per workload and thread count.");
+    sg::apps::add_count_option(app, "--oracle-rays", o.plan.oracle_rays, 0,
+                               std::uint64_t{1} << 24,
+                               "Brute-force sample per workload (fewer on big scenes: at most "
+                               "4e8 ray/triangle tests per sample, at least 20 rays).");
+    sg::apps::add_count_option(app, "--watertight-triangles", o.plan.watertight_triangles, 100,
+                               std::uint64_t{1} << 26,
+                               "Triangles of the closed sphere of the watertightness workload.");
+    sg::apps::add_count_option(app, "--watertight-rays", o.plan.watertight_rays, 0,
+                               std::uint64_t{1} << 30,
+                               "Rays from inside the sphere, per position (0 skips the "
+                               "workload and its chart).");
+    sg::apps::add_count_option(app, "--sweep-rays", o.plan.sweep_rays, 1, std::uint64_t{1} << 30,
+                               "Path rays traced per sweep point.");
+    app.add_flag("--no-sweep", o.no_sweep, "Skip the Split Grid parameter sweep (and its chart)");
     app.add_flag("--no-charts", o.no_charts, "Write results.json and results.csv only");
-    app.add_option("--charts-script", o.charts_script, "The chart script")->capture_default_str();
-    app.add_option("--seed", o.plan.seed, "Seed of every random workload")->capture_default_str();
+    app.add_option("--charts-script", o.charts_script,
+                   sg::apps::help_text("The chart script.", {}, o.charts_script.string()))
+        ->type_name("FILE");
+    sg::apps::add_count_option(app, "--seed", o.plan.seed, 0,
+                               std::numeric_limits<std::uint32_t>::max(),
+                               "Seed of every random workload.");
     sg::apps::add_build_config_flags(app, o.plan.configs.split_grid, false);
     sg::apps::add_log_flags(app, o.log);
     return sg::apps::run_tool(app, argc, argv, o.log, [&] { bench(app, o); });

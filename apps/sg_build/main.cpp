@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -13,6 +14,7 @@
 #include "splitgrid/builder.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/formats/mesh_import.hpp"
+#include "splitgrid/formats/output_file.hpp"
 #include "splitgrid/formats/sg_file.hpp"
 #include "splitgrid/stats.hpp"
 #include "splitgrid/validate.hpp"
@@ -71,18 +73,18 @@ void check_built_grid(const sg::SplitGrid& grid)
 /// hangs or floods Assimp ends as exit code 2 with a message, not as the end of sg-build.
 void add_import_flags(CLI::App& app, sg::ImportOptions& import)
 {
-    app.add_option("--import-time-limit", import.time_limit_seconds,
-                   "Seconds the mesh import may take before it is stopped and the file "
-                   "refused (exit code 2)")
-        ->check(CLI::Range(0.001, 1e6))
-        ->capture_default_str();
+    sg::apps::add_real_option(app, "--import-time-limit", import.time_limit_seconds, 0.0, 1e6,
+                              true,
+                              "Seconds the mesh import may take before it is stopped and the "
+                              "file refused (exit code 2).");
     app.add_option_function<std::uint64_t>(
            "--import-memory-limit",
            [&import](std::uint64_t mib) { import.memory_limit_bytes = mib << 20; },
-           "MiB of memory the mesh import may use before the file is refused (exit code 2); "
-           "0 means no limit [default: " +
-               std::to_string(import.memory_limit_bytes >> 20) + "]")
-        ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 30));
+           sg::apps::help_text("MiB of memory the mesh import may use before the file is "
+                               "refused (exit code 2); 0 means no limit.",
+                               sg::apps::count_range(0, std::uint64_t{1} << 30),
+                               std::to_string(import.memory_limit_bytes >> 20)))
+        ->check(sg::apps::count_in(0, std::uint64_t{1} << 30));
     app.add_flag_callback(
         "--import-in-process",
         [&import] { import.isolation = sg::ImportIsolation::in_process; },
@@ -90,10 +92,13 @@ void add_import_flags(CLI::App& app, sg::ImportOptions& import)
         "crashes Assimp ends sg-build (for debugging the import)");
 }
 
-void build(const Options& options)
+void build(Options& options)
 {
-    // Fail on an impossible output path now, not after a long import and build.
-    sg::apps::check_output_path(options.output);
+    // Fail on an output that would destroy the input, or that cannot be written, now: not
+    // after a long import and build. The temporary file exists from here on.
+    sg::apps::refuse_output_over_input(options.output, {options.mesh});
+    const std::unique_ptr<sg::OutputFile> output = sg::apps::reserve_output(options.output);
+    options.config.threads = sg::apps::threads_to_use(options.config.threads);
 
     const auto import_start = Clock::now();
     sg::ImportedMesh imported = sg::import_mesh(options.mesh, options.import);
@@ -101,6 +106,9 @@ void build(const Options& options)
     const sg::ImportReport report = imported.report;
     const std::size_t triangles_kept = imported.mesh.triangles.size();
     const std::size_t vertex_count = imported.mesh.vertices.size();
+    // The files the mesh pulled in (a glTF's .bin, an OBJ's .mtl) are inputs too.
+    sg::apps::refuse_output_over_input(options.output, sg::apps::as_paths(report.opened_files),
+                                       options.mesh);
     log_import_report(options.mesh, report, triangles_kept);
 
     const auto build_start = Clock::now();
@@ -108,6 +116,7 @@ void build(const Options& options)
                                               sg::apps::ProgressLog("building",
                                                                     "triangles placed",
                                                                     build_start));
+    const unsigned threads = sg::apps::threads_that_run(options.config.threads);
     const double build_seconds = sg::apps::seconds_since(build_start);
     check_built_grid(grid);
     const sg::GridStats stats = sg::compute_stats(grid);
@@ -115,7 +124,7 @@ void build(const Options& options)
     const auto write_start = Clock::now();
     const sg::SgContents contents{std::move(imported.mesh), std::move(grid),
                                   options.mesh.filename().string()};
-    sg::write_sg_file(options.output, contents);
+    sg::write_sg_file(*output, contents);
     const double write_seconds = sg::apps::seconds_since(write_start);
     const std::size_t file_bytes = static_cast<std::size_t>(fs::file_size(options.output));
     spdlog::debug("wrote {} ({} bytes)", options.output.string(), file_bytes);
@@ -151,9 +160,11 @@ void build(const Options& options)
                      {"bytes_per_triangle", sg::apps::per_triangle(file_bytes, triangles_kept)}};
         j["seconds"] = {
             {"import", import_seconds}, {"build", build_seconds}, {"write", write_seconds}};
+        j["threads"] = threads;
         std::cout << j.dump(2) << '\n';
         return;
     }
+    if (!options.log.shows_summary()) return;
     std::cout << fmt::format(
         "input       {}\n"
         "triangles   {} read, {} dropped ({} non-finite, {} zero-area), {} kept; "
@@ -162,7 +173,7 @@ void build(const Options& options)
         "grid        {} nodes, {} cells, {} references (duplication {:.2f}), max depth {}\n"
         "structure   {} ({:.1f} bytes/triangle)\n"
         "file        {} ({:.1f} bytes/triangle) {}\n"
-        "time        import {:.3f} s, build {:.3f} s, write {:.3f} s\n",
+        "time        import {:.3f} s, build {:.3f} s on {} thread{}, write {:.3f} s\n",
         options.mesh.string(), report.triangles_read, dropped, report.nonfinite_dropped,
         report.degenerate_dropped, triangles_kept, report.points_skipped, report.lines_skipped,
         report.vertices_before_welding, vertex_count, stats.node_count, stats.cell_count,
@@ -170,7 +181,7 @@ void build(const Options& options)
         sg::apps::human_bytes(stats.structure_bytes),
         stats.structure_bytes_per_triangle, sg::apps::human_bytes(file_bytes),
         sg::apps::per_triangle(file_bytes, triangles_kept), options.output.string(),
-        import_seconds, build_seconds, write_seconds);
+        import_seconds, build_seconds, threads, threads == 1 ? "" : "s", write_seconds);
 }
 
 }  // namespace
@@ -189,9 +200,12 @@ int main(int argc, char** argv)
         "with min = --resolution-min, max = --resolution-max, sigma = --resolution-sigma,\n"
         "then capped so cells are at least --min-cell-width mean triangle extents wide\n"
         "(docs/SPLIT_GRID.md).\n"
-        "On failure no output file is left behind (the file is written atomically).");
+        "On failure or an interrupt no output file is left behind (the file is written\n"
+        "atomically: into a temporary file beside it, created before the import).");
     app.add_option("MESH", options.mesh, "Input mesh file")->required();
-    app.add_option("-o,--output", options.output, "Output .sg file")->required();
+    sg::apps::add_output_option(app, options.output,
+                                "Output .sg file, written atomically; it may not be the mesh "
+                                "or a file the mesh refers to (a glTF's .bin, an OBJ's .mtl)");
     app.add_flag("--json", options.json, "Print one JSON object (docs/STATS_JSON.md) instead "
                                          "of the summary");
     sg::apps::add_build_config_flags(app, options.config);

@@ -13,6 +13,7 @@
 #include "cli_common.hpp"
 #include "splitgrid/formats/sg_file.hpp"
 #include "splitgrid/version.hpp"
+#include "splitgrid/viz/library_versions.hpp"
 #include "splitgrid/viz/vtk_export.hpp"
 
 #include <spdlog/fmt/fmt.h>
@@ -38,19 +39,6 @@ struct Options {
     bool json = false;
     sg::apps::LogOptions log;
 };
-
-/// Refuses anything but decimal digits: CLI11 would wrap "-1" around to 2^64 - 1.
-CLI::Validator whole_number()
-{
-    return CLI::Validator(
-        [](std::string& text) -> std::string {
-            const bool digits = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
-                return c >= '0' && c <= '9';
-            });
-            return digits ? std::string() : text + " is not a whole number";
-        },
-        "", "");
-}
 
 sg::viz::ExportOptions export_options(const Options& options)
 {
@@ -119,6 +107,7 @@ void print_summary(const Options& options, const sg::viz::ExportSummary& s, doub
         std::cout << j.dump(2) << '\n';
         return;
     }
+    if (!options.log.shows_summary()) return;
     std::cout << fmt::format(
         "input       {}\n"
         "selection   {} nodes: {} cells, {} planes, {} leaves; mesh {} triangles\n"
@@ -132,6 +121,12 @@ void print_summary(const Options& options, const sg::viz::ExportSummary& s, doub
 
 void export_file(const Options& options)
 {
+    // An export that would replace its own input, or a folder that cannot be written, is
+    // refused before the .sg file is read; the staging folder exists from here on.
+    sg::apps::refuse_folder_over_input(options.output, {options.file});
+    sg::viz::ExportFolder folder(options.output, options.force);
+    sg::apps::report_stale_removed(folder.stale_removed());
+
     const auto read_start = Clock::now();
     const sg::SgContents contents = sg::read_sg_file(options.file);
     const double read_seconds = sg::apps::seconds_since(read_start);
@@ -142,7 +137,7 @@ void export_file(const Options& options)
     sg::viz::ExportSummary summary;
     try {
         summary = sg::viz::export_vtk(contents.grid, contents.mesh.view(),
-                                      export_options(options), metadata, options.output);
+                                      export_options(options), metadata, folder);
     } catch (const sg::viz::ExportLimitError& e) {
         refuse_over_limit(options, e);
     }
@@ -185,48 +180,45 @@ int main(int argc, char** argv)
         "into a hidden folder beside DIR and renamed to DIR when complete, so a failure leaves\n"
         "no partial export.\n"
         "Over the limit (default 1,000,000 hexahedra and quads) nothing is written and the\n"
-        "tool exits with code 1, naming the --max-depth that would fit.");
+        "tool exits with code 1, naming the --max-depth that would fit. On an interrupt the\n"
+        "hidden folder is removed; one left by a killed run is removed by the next run.",
+        sg::viz::viz_library_versions());
     app.add_option("FILE", options.file, "The .sg file (from sg-build)")->required()->type_name("");
-    app.add_option("-o,--output", options.output,
-                   "Output folder DIR (created; see below for an existing folder)")
-        ->required()
-        ->type_name("DIR");
+    sg::apps::add_output_option(app, options.output,
+                                "Output folder DIR (created; see below for an existing folder)",
+                                true, "DIR");
     app.add_option("--parts", options.parts,
-                   "Comma-separated blocks to write, from cells, planes, leaves, mesh. "
-                   "Default: all four.")
+                   sg::apps::help_text("Comma-separated blocks to write, from cells, planes, "
+                                       "leaves, mesh.",
+                                       {}, "cells,planes,leaves,mesh"))
         ->delimiter(',')
         ->type_name("LIST")
         ->check(CLI::IsMember({"cells", "planes", "leaves", "mesh"}));
-    app.add_option("--min-depth", options.min_depth,
-                   fmt::format("Export only nodes at this depth or deeper (the root node is "
-                               "depth 0; a cell has its node's depth). Range [0, {}]. "
-                               "Default 0.",
-                               sg::max_supported_depth))
-        ->check(sg::apps::uint_in(0, sg::max_supported_depth))
+    sg::apps::add_count_option(app, "--min-depth", options.min_depth, 0, sg::max_supported_depth,
+                               "Export only nodes at this depth or deeper (the root node is "
+                               "depth 0; a cell has its node's depth).")
         ->type_name("D");
-    app.add_option("--max-depth", options.max_depth,
-                   fmt::format("Export only nodes at this depth or shallower. Range [0, {}]. "
-                               "Default: no limit.",
-                               sg::max_supported_depth))
-        ->check(sg::apps::uint_in(0, sg::max_supported_depth))
+    sg::apps::add_count_option(app, "--max-depth", options.max_depth, 0, sg::max_supported_depth,
+                               "Export only nodes at this depth or shallower.", "no limit")
         ->type_name("D");
-    app.add_option("--subtree", options.subtree,
-                   "Export only node NODE and the nodes below it (NODE is a node_id as "
-                   "shown in ParaView). Depths still count from the root.")
-        ->check(sg::apps::uint_in(0, std::numeric_limits<std::uint32_t>::max()))
+    sg::apps::add_count_option(app, "--subtree", options.subtree, 0,
+                               std::numeric_limits<std::uint32_t>::max(),
+                               "Export only node NODE and the nodes below it (NODE is a node_id "
+                               "as shown in ParaView). Depths still count from the root.",
+                               "the whole structure")
         ->type_name("NODE")
         ->each([&options](const std::string&) { options.has_subtree = true; });
     app.add_flag("--empty-cells", options.empty_cells,
                  "Also write empty cells (kind 0) into the cells block");
-    app.add_option("--limit", options.limit,
-                   fmt::format("Most hexahedra and quads (cells + planes + leaves; the mesh "
-                               "is not counted) to write; 0 means no limit. Default {}: more "
-                               "is slow to open and unreadable as a wireframe.",
-                               sg::viz::default_primitive_limit))
-        ->check(whole_number())
+    sg::apps::add_count_option(app, "--limit", options.limit, 0,
+                               std::numeric_limits<std::uint64_t>::max(),
+                               "Most hexahedra and quads (cells + planes + leaves; the mesh is "
+                               "not counted) to write; 0 means no limit. More is slow to open "
+                               "and unreadable as a wireframe.")
         ->type_name("N");
     app.add_flag("--force", options.force,
-                 "Replace DIR if it exists and holds an earlier export (a .vtm file)");
+                 "Replace DIR if it exists and holds an earlier export (a .vtm file), unless it "
+                 "holds FILE");
     app.add_flag("--json", options.json, "Print one JSON object (docs/VIZ.md) instead of the "
                                          "summary");
     sg::apps::add_log_flags(app, options.log);

@@ -6,12 +6,16 @@
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
+#include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "camera_flags.hpp"
 #include "cli_common.hpp"
+#include "output_paths.hpp"
 #include "splitgrid/camera.hpp"
+#include "splitgrid/formats/output_file.hpp"
 #include "splitgrid/formats/ray_file.hpp"
 #include "splitgrid/formats/ray_text.hpp"
 #include "splitgrid/formats/sg_file.hpp"
@@ -94,10 +98,12 @@ Made text_rays(const Options& options)
 
 void write_rays(const Options& options, Made (*make)(const Options&))
 {
-    // Fail on an impossible output path now, not after reading the input.
-    sg::apps::check_output_path(options.output);
+    // An output that would destroy the input, or that cannot be written, is refused before
+    // anything is read; the temporary file exists from here on.
+    sg::apps::refuse_output_over_input(options.output, {options.input});
+    const std::unique_ptr<sg::OutputFile> output = sg::apps::reserve_output(options.output);
     const Made made = make(options);
-    sg::write_ray_file(options.output, made.rays);
+    sg::write_ray_file(*output, made.rays);
     const std::size_t invalid = static_cast<std::size_t>(
         std::count_if(made.rays.begin(), made.rays.end(),
                       [](const sg::Ray& ray) { return !sg::is_valid(ray); }));
@@ -119,6 +125,7 @@ void write_rays(const Options& options, Made (*make)(const Options&))
         std::cout << j.dump(2) << '\n';
         return;
     }
+    if (!options.log.shows_summary()) return;
     std::cout << fmt::format("wrote {} rays ({}: {}) to {}\n", made.rays.size(), made.mode,
                              made.details, options.output.string());
 }
@@ -152,9 +159,11 @@ int main(int argc, char** argv)
         "  inf and nan are allowed. Blank lines and lines starting with # are skipped, and a\n"
         "  first line that does not start with a number is a header. An error names the\n"
         "  line: 'error: rays.csv:3: field 2 'x' is not a number'.\n"
-        "The output is written atomically: on failure no output file is left behind.");
-    app.add_option("-o,--output,--out", options.output, "Output ray file (SGRAY001)")
-        ->required();
+        "The output is written atomically: on failure or an interrupt no output file is left\n"
+        "behind.");
+    sg::apps::add_output_option(app, options.output,
+                                "Output ray file (SGRAY001), written atomically; it may not be "
+                                "the input");
     app.add_flag("--json", options.json,
                  "Print one JSON object (docs/STATS_JSON.md) instead of the summary");
     sg::apps::add_log_flags(app, options.log);
@@ -166,26 +175,20 @@ int main(int argc, char** argv)
 
     CLI::App* camera = app.add_subcommand("camera", "Camera rays of an image of a .sg scene");
     camera->add_option("SCENE", options.input, "The .sg file (from sg-build)")->required();
-    camera->add_option("--width", options.width,
-                       fmt::format("Image width in pixels. Range [1, {}]. Default {}.", max_side,
-                                   options.width))
-        ->check(sg::apps::uint_in(1, max_side));
-    camera->add_option("--height", options.height,
-                       fmt::format("Image height in pixels. Range [1, {}]. Default {}.", max_side,
-                                   options.height))
-        ->check(sg::apps::uint_in(1, max_side));
+    sg::apps::add_count_option(*camera, "--width", options.width, 1, max_side,
+                               "Image width in pixels.");
+    sg::apps::add_count_option(*camera, "--height", options.height, 1, max_side,
+                               "Image height in pixels.");
     sg::apps::add_camera_flags(*camera, options.camera);
     camera->parse_complete_callback([&] { sg::apps::check_full_camera(options.camera); });
 
     CLI::App* random = app.add_subcommand("random", "Random rays in the box of a .sg scene");
     random->add_option("SCENE", options.input, "The .sg file (from sg-build)")->required();
-    random->add_option("--count", options.count,
-                       fmt::format("Number of rays. Range [1, {}]. Default {}.", max_random_rays,
-                                   options.count))
-        ->check(sg::apps::uint_in(1, max_random_rays));
-    random->add_option("--seed", options.seed,
-                       "Seed of the random streams; the same seed gives the same rays. "
-                       "Default 1.");
+    sg::apps::add_count_option(*random, "--count", options.count, 1, max_random_rays,
+                               "Number of rays.");
+    sg::apps::add_count_option(*random, "--seed", options.seed, 0,
+                               std::numeric_limits<std::uint64_t>::max(),
+                               "Seed of the random streams; the same seed gives the same rays.");
 
     CLI::App* text = app.add_subcommand("text", "Rays read from a text or CSV file");
     text->add_option("RAYS", options.input, "Text or CSV file, one ray per line")->required();

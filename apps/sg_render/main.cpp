@@ -6,14 +6,19 @@
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
+#include <limits>
+#include <memory>
 #include <string>
 
 #include "camera_flags.hpp"
 #include "cli_common.hpp"
 #include "splitgrid/camera.hpp"
+#include "splitgrid/error.hpp"
+#include "splitgrid/formats/output_file.hpp"
 #include "splitgrid/formats/sg_file.hpp"
 #include "splitgrid/version.hpp"
 #include "splitgrid/viz/image.hpp"
+#include "splitgrid/viz/library_versions.hpp"
 #include "splitgrid/viz/render.hpp"
 
 #include <spdlog/fmt/fmt.h>
@@ -128,8 +133,11 @@ void print_summary(const Options& options, const sg::RenderResult& result,
 
 void render(Options& options)
 {
-    // Fail on an impossible output path now, not after a long render.
-    sg::apps::check_output_path(options.output);
+    // Fail on an output that would destroy the input, or that cannot be written, now: not
+    // after a long render. The temporary file exists from here on.
+    sg::apps::refuse_output_over_input(options.output, {options.file});
+    const std::unique_ptr<sg::OutputFile> output = sg::apps::reserve_output(options.output);
+    options.settings.threads = sg::apps::threads_to_use(options.settings.threads);
 
     const auto load_start = Clock::now();
     const sg::SgContents contents = sg::read_sg_file(options.file);
@@ -151,14 +159,14 @@ void render(Options& options)
                      result.legend->title);
 
     const auto write_start = Clock::now();
-    sg::write_image(options.output, result.image);
+    sg::write_image(*output, result.image);
     const double write_seconds = sg::apps::seconds_since(write_start);
     const std::uintmax_t image_bytes = fs::file_size(options.output);
 
     if (options.json)
         print_json(options, result, options.settings.camera, automatic_camera,
                    mesh.triangle_count(), load_seconds, write_seconds, image_bytes);
-    else
+    else if (options.log.shows_summary())
         print_summary(options, result, options.settings.camera, automatic_camera,
                       load_seconds, write_seconds, image_bytes);
 }
@@ -186,12 +194,15 @@ int main(int argc, char** argv)
         "Without --eye and --look-at the camera frames the scene so that it fills the image,\n"
         "seen from above and to the side with --up up (default +y: give --up 0,0,1 for a\n"
         "z-up scene); the summary prints the camera flags it used, to adjust from.\n"
-        "The image is written atomically: on failure no output file is left behind.");
+        "The image is written atomically: on failure or an interrupt no output file is left\n"
+        "behind.",
+        sg::viz::viz_library_versions());
     app.add_option("FILE", options.file, "The .sg file (from sg-build)")->required();
-    app.add_option("-o,--output", options.output,
-                   "Output image; the extension picks the format: " +
-                       sg::supported_image_extensions() + " (PNG recommended: lossless)")
-        ->required()
+    sg::apps::add_output_option(app, options.output,
+                                "Output image, written atomically; the extension picks the "
+                                "format: " +
+                                    sg::supported_image_extensions() +
+                                    " (PNG recommended: lossless)")
         ->check(CLI::Validator(
             [](std::string& text) -> std::string {
                 return sg::image_format_for(text)
@@ -200,52 +211,36 @@ int main(int argc, char** argv)
                                  sg::supported_image_extensions() + ")";
             },
             "", ""));
-    app.add_option("--mode", options.mode, "What the pixels show (see below). Default shaded.")
+    app.add_option("--mode", options.mode,
+                   sg::apps::help_text("What the pixels show (see below).", {}, "shaded"))
         ->check(CLI::IsMember({"shaded", "ao", "path", "heat-cells", "heat-triangles"}));
     const auto side = static_cast<std::uint32_t>(sg::max_image_side);
-    app.add_option("--width", s.width,
-                   fmt::format("Image width in pixels. Range [1, {}]. Default {}.", side, s.width))
-        ->check(sg::apps::uint_in(1, side));
-    app.add_option("--height", s.height,
-                   fmt::format("Image height in pixels. Range [1, {}]. Default {}.", side,
-                               s.height))
-        ->check(sg::apps::uint_in(1, side));
-    CLI::Option* spp =
-        app.add_option("--spp", s.samples_per_pixel,
-                       fmt::format("Camera rays per pixel: 1 goes through the pixel centre, more "
-                                   "through random points of the pixel (antialiasing, less "
-                                   "noise). Range [1, 65536]. Default 1, {} in path mode.",
-                                   path_default_spp))
-            ->check(sg::apps::uint_in(1, 65536));
+    sg::apps::add_count_option(app, "--width", s.width, 1, side, "Image width in pixels.");
+    sg::apps::add_count_option(app, "--height", s.height, 1, side, "Image height in pixels.");
+    CLI::Option* spp = sg::apps::add_count_option(
+        app, "--spp", s.samples_per_pixel, 1, 65536,
+        "Camera rays per pixel: 1 goes through the pixel centre, more through random points of "
+        "the pixel (antialiasing, less noise).",
+        fmt::format("1, {} in path mode", path_default_spp));
     sg::apps::add_camera_flags(app, options.camera);
-    app.add_option("--threads", s.threads,
-                   fmt::format("Worker threads, 0 = all hardware threads; the image is the same "
-                               "for every value. Range [0, {}]. Default 0.",
-                               max_threads))
-        ->check(sg::apps::uint_in(0, max_threads));
-    app.add_option("--seed", s.seed,
-                   "Seed of every random choice (sub-pixel positions, ao and bounce "
-                   "directions); the same seed gives the same image. Default 1.");
-    app.add_option("--ao-samples", s.ao_samples,
-                   fmt::format("ao mode: occlusion rays per camera ray. Range [1, 4096]. "
-                               "Default {}.",
-                               s.ao_samples))
-        ->check(sg::apps::uint_in(1, 4096));
-    app.add_option("--ao-distance", s.ao_distance,
-                   fmt::format("ao mode: reach of the occlusion rays as a fraction of the "
-                               "diagonal of the scene's box. Range (0, 1e6]. Default {:g}.",
-                               s.ao_distance))
-        ->check(sg::apps::number_in(0.0, 1e6, true));
-    app.add_option("--bounces", s.bounces,
-                   fmt::format("path mode: diffuse reflections per path. Range [0, 64]. "
-                               "Default {}.",
-                               s.bounces))
-        ->check(sg::apps::uint_in(0, 64));
-    app.add_option("--heat-max", s.heat_max,
-                   "Heat maps: value of the top colour, in cells or triangles per ray; fix it to "
-                   "compare images. 0 = automatic (the 99.5th percentile of the image, rounded "
-                   "up to a tick). Range [0, 1e9]. Default 0.")
-        ->check(sg::apps::number_in(0.0, 1e9, false));
+    sg::apps::add_count_option(app, "--threads", s.threads, 0, max_threads,
+                               "Worker threads, 0 = all hardware threads; the image is the same "
+                               "for every value.");
+    sg::apps::add_count_option(app, "--seed", s.seed, 0,
+                               std::numeric_limits<std::uint64_t>::max(),
+                               "Seed of every random choice (sub-pixel positions, ao and bounce "
+                               "directions); the same seed gives the same image.");
+    sg::apps::add_count_option(app, "--ao-samples", s.ao_samples, 1, 4096,
+                               "ao mode: occlusion rays per camera ray.");
+    sg::apps::add_real_option(app, "--ao-distance", s.ao_distance, 0.0, 1e6, true,
+                              "ao mode: reach of the occlusion rays as a fraction of the "
+                              "diagonal of the scene's box.");
+    sg::apps::add_count_option(app, "--bounces", s.bounces, 0, 64,
+                               "path mode: diffuse reflections per path.");
+    sg::apps::add_real_option(app, "--heat-max", s.heat_max, 0.0, 1e9, false,
+                              "Heat maps: value of the top colour, in cells or triangles per "
+                              "ray; fix it to compare images. 0 = automatic (the 99.5th "
+                              "percentile of the image, rounded up to a tick).");
     app.add_flag("--json", options.json,
                  "Print one JSON object (docs/RENDER.md) instead of the summary");
     sg::apps::add_log_flags(app, options.log);

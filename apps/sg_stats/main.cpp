@@ -88,7 +88,6 @@ void print_json(const Options& options, const Report& r)
 void print_text(const Options& options, const Report& r)
 {
     const sg::GridStats& s = r.stats;
-    const sg::BuildConfig& c = r.contents.grid.config;
     const std::size_t triangles = r.contents.mesh.triangles.size();
     const auto bytes_per_triangle = [&](std::size_t bytes) {
         return sg::apps::per_triangle(bytes, triangles);
@@ -103,13 +102,7 @@ void print_text(const Options& options, const Report& r)
         out += fmt::format("  section {:4}  {:>12} bytes  {:>10} records  at offset {}\n",
                            section.name, section.bytes, section.count, section.offset);
     out += fmt::format("source          {}\n", r.contents.source_name);
-    out += fmt::format(
-        "build config    resolution {}..{}, sigma {:g}, leaf size {}, max depth {}, "
-        "no-progress fraction {:g}, min cell width {:g}, stop by cost {}, bounding planes {}, "
-        "clip triangles {}, threads {}\n",
-        c.resolution_min, c.resolution_max, c.resolution_sigma, c.leaf_size, c.max_depth,
-        c.no_progress_fraction, c.min_cell_width, c.stop_by_cost ? "on" : "off",
-        c.bounding_planes ? "on" : "off", c.clip_triangles ? "on" : "off", c.threads);
+    out += fmt::format("build config    {}\n", sg::apps::to_text(r.contents.grid.config));
 
     out += fmt::format("\nmesh            {} vertices stored, {} triangles\n",
                        r.contents.mesh.vertices.size(), triangles);

@@ -8,10 +8,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <vector>
 
 #include "cli_common.hpp"
 #include "splitgrid/error.hpp"
+#include "splitgrid/formats/output_file.hpp"
 #include "splitgrid/formats/ray_file.hpp"
 #include "splitgrid/formats/sg_file.hpp"
 #include "splitgrid/traverse.hpp"
@@ -79,7 +81,11 @@ std::size_t check_invalid_rays(const Options& options, const std::vector<sg::Ray
 
 void trace(const Options& options)
 {
-    sg::apps::check_output_path(options.out);
+    // An output that would destroy an input, or that cannot be written, is refused before
+    // anything is read; the temporary file exists from here on.
+    sg::apps::refuse_output_over_input(options.out, {options.file, options.rays});
+    const std::unique_ptr<sg::OutputFile> output = sg::apps::reserve_output(options.out);
+    const unsigned threads_asked = sg::apps::threads_to_use(options.threads);
     const sg::SgContents contents = sg::read_sg_file(options.file);
     const std::vector<sg::Ray> rays = sg::read_ray_file(options.rays);
     spdlog::debug("{}: {} triangles; {}: {} rays", options.file.string(),
@@ -90,8 +96,8 @@ void trace(const Options& options)
     const sg::MeshView mesh = contents.mesh.view();
     std::vector<sg::Hit> hits(rays.size());
 
-    tbb::task_arena arena(options.threads == 0 ? tbb::task_arena::automatic
-                                               : static_cast<int>(options.threads));
+    tbb::task_arena arena(threads_asked == 0 ? tbb::task_arena::automatic
+                                             : static_cast<int>(threads_asked));
     const auto start = Clock::now();
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), rays_per_block),
@@ -103,7 +109,7 @@ void trace(const Options& options)
                           });
     });
     const double seconds = sg::apps::seconds_since(start);
-    sg::write_hit_file(options.out, hits);
+    sg::write_hit_file(*output, hits);
 
     const auto hit_count = static_cast<std::size_t>(
         std::count_if(hits.begin(), hits.end(), [](const sg::Hit& h) { return h.is_hit(); }));
@@ -127,6 +133,7 @@ void trace(const Options& options)
         std::cout << j.dump(2) << '\n';
         return;
     }
+    if (!options.log.shows_summary()) return;
     std::cout << fmt::format("traced {} rays ({}) on {} thread{} in {:.3f} s: {:.0f} rays/s; "
                              "{} hits ({:.1f}%), {} invalid rays, written to {}\n",
                              rays.size(), options.any_hit ? "any hit" : "closest hit", threads,
@@ -158,17 +165,15 @@ int main(int argc, char** argv)
         "warning that counts them; --strict refuses such a file instead (exit code 2).");
     app.add_option("FILE", options.file, "The .sg file")->required();
     app.add_option("--rays", options.rays, "Input ray file (SGRAY001)")->required();
-    app.add_option("--out", options.out, "Output hit file (SGHIT001), written atomically")
-        ->required();
+    sg::apps::add_output_option(app, options.out,
+                                "Output hit file (SGHIT001), written atomically; it may not be "
+                                "FILE or the ray file");
     app.add_flag("--any-hit", options.any_hit, "Occlusion queries instead of closest hits");
     app.add_flag("--strict", options.strict,
                  "Refuse a ray file with invalid rays (exit code 2, no hit file written) "
                  "instead of tracing them as misses with a warning");
-    app.add_option("--threads", options.threads,
-                   fmt::format("Worker threads, 0 = all hardware threads. Range [0, {}]. "
-                               "Default 0.",
-                               max_threads))
-        ->check(sg::apps::uint_in(0, max_threads));
+    sg::apps::add_count_option(app, "--threads", options.threads, 0, max_threads,
+                               "Worker threads, 0 = all hardware threads.");
     app.add_flag("--json", options.json, "Print one JSON object (docs/STATS_JSON.md) instead "
                                          "of the summary");
     sg::apps::add_log_flags(app, options.log);

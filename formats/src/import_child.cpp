@@ -25,11 +25,13 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "splitgrid/error.hpp"
+#include "splitgrid/formats/temporary_paths.hpp"
 
 namespace sg::detail {
 namespace {
@@ -120,6 +122,8 @@ void encode_mesh(WireWriter& out, const ImportedMesh& imported)
         out.u64(n);
     out.u64(r.warnings.size());
     for (const std::string& w : r.warnings) out.text(w);
+    out.u64(r.opened_files.size());
+    for (const std::string& f : r.opened_files) out.text(f);
     out.array(imported.mesh.vertices);
     out.array(imported.mesh.triangles);
 }
@@ -140,6 +144,13 @@ bool decode_mesh(WireReader& in, ImportedMesh& imported)
         std::string w;
         if (!in.text(w)) return false;
         r.warnings.push_back(std::move(w));
+    }
+    std::uint64_t opened_files = 0;
+    if (!in.u64(opened_files)) return false;
+    for (std::uint64_t i = 0; i < opened_files; ++i) {
+        std::string f;
+        if (!in.text(f)) return false;
+        r.opened_files.push_back(std::move(f));
     }
     return in.array(imported.mesh.vertices) && in.array(imported.mesh.triangles) &&
            in.at_end();
@@ -183,9 +194,14 @@ void apply_limits(const ImportOptions& options)
     ::setrlimit(RLIMIT_CPU, &cpu_limit);
 }
 
-[[noreturn]] void run_child(int answer_fd, int output_fd, const ImportOptions& options,
+[[noreturn]] void run_child(pid_t parent, int answer_fd, int output_fd,
+                            const ImportOptions& options,
                             const std::function<ImportedMesh()>& import)
 {
+    // A parent killed outright (SIGKILL) cannot stop the child: the kernel does, so that no
+    // import is left running for nobody. Checked once more in case the parent died before.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(1);
     // Assimp is silent, but an assertion or a sanitizer report goes to stderr: capture both
     // streams, so nothing lands in the tool's own output (stdout may be JSON).
     ::dup2(output_fd, STDOUT_FILENO);
@@ -382,15 +398,26 @@ ImportedMesh import_in_child(const std::filesystem::path& path, const ImportOpti
     open_pipe(output, path);
     // Anything buffered now would be written twice, once by each process.
     std::fflush(nullptr);
-    const pid_t pid = ::fork();
+    // An interrupted tool kills the child rather than leave it importing (the child keeps the
+    // parent's signal mask, so in a tool SIGINT and SIGTERM do not reach it directly). The
+    // fork and the registration happen under one hold of the cleanup registry; the child
+    // never touches the registry, so its copy of the held lock does not matter.
+    CleanupEntry kill_on_interrupt;
+    pid_t pid = 0;
+    {
+        const CleanupHold hold = hold_off_cleanup();
+        const pid_t parent = ::getpid();
+        pid = ::fork();
+        if (pid == 0) {
+            answer.read.reset();
+            output.read.reset();
+            run_child(parent, answer.write.get(), output.write.get(), options, import);
+        }
+        if (pid > 0) kill_on_interrupt = CleanupEntry::process(pid, hold);
+    }
     if (pid < 0)
         throw IoError(path.string() + ": cannot start the import process: fork: " +
                       std::error_code(errno, std::generic_category()).message());
-    if (pid == 0) {
-        answer.read.reset();
-        output.read.reset();
-        run_child(answer.write.get(), output.write.get(), options, import);
-    }
     answer.write.reset();
     output.write.reset();
     const ChildResult child = collect(pid, answer.read, output.read, options.time_limit_seconds);

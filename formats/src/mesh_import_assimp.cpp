@@ -1,4 +1,5 @@
-// Mesh import through Assimp: the only file of the project that includes Assimp.
+// Mesh import through Assimp (with opened_files.cpp and library_versions.cpp, the only
+// files of the project that include Assimp).
 
 #include "mesh_import_assimp.hpp"
 
@@ -13,6 +14,7 @@
 #include <assimp/scene.h>
 
 #include "assimp_guards.hpp"
+#include "opened_files.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/formats/vertex_weld.hpp"
 
@@ -108,6 +110,7 @@ ImportedMesh import_mesh_in_process(const std::filesystem::path& path)
     // No Assimp::DefaultLogger is created, so Assimp logs to its silent NullLogger and
     // writes nothing to stdout or stderr.
     Assimp::Importer importer;
+    const std::vector<std::string>& opened_files = detail::record_opened_files(importer);
     // ValidateDataStructure runs on the raw scene, before the other steps: they trust the
     // indices, and a hostile file must be refused rather than crash them.
     const aiScene* scene = importer.ReadFile(name, aiProcess_ValidateDataStructure);
@@ -139,6 +142,7 @@ ImportedMesh import_mesh_in_process(const std::filesystem::path& path)
     if (report.triangles_read >= std::numeric_limits<std::uint32_t>::max())
         throw InputError(name + ": more than 2^32 - 2 triangles, the limit of 32-bit ids");
     importer.FreeScene();
+    report.opened_files = opened_files;
 
     const CleanReport cleaned = clean_mesh(result.mesh);
     report.nonfinite_dropped = cleaned.nonfinite_triangles;

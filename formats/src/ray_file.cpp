@@ -15,9 +15,9 @@
 #include <string_view>
 #include <vector>
 
-#include "atomic_file.hpp"
 #include "file_bytes.hpp"
 #include "splitgrid/error.hpp"
+#include "splitgrid/formats/output_file.hpp"
 
 namespace sg {
 namespace {
@@ -136,7 +136,13 @@ std::vector<Ray> read_ray_file(const std::filesystem::path& path)
 
 void write_ray_file(const std::filesystem::path& path, const std::vector<Ray>& rays)
 {
-    detail::write_file_atomically(path, encode<RayRecord>(ray_magic, rays.size(), [&](std::size_t i) {
+    OutputFile output(path);
+    write_ray_file(output, rays);
+}
+
+void write_ray_file(OutputFile& output, const std::vector<Ray>& rays)
+{
+    output.commit(encode<RayRecord>(ray_magic, rays.size(), [&](std::size_t i) {
         const Ray& r = rays[i];
         return RayRecord{{r.origin.x, r.origin.y, r.origin.z},
                          {r.direction.x, r.direction.y, r.direction.z}, r.t_min, r.t_max};
@@ -145,7 +151,13 @@ void write_ray_file(const std::filesystem::path& path, const std::vector<Ray>& r
 
 void write_hit_file(const std::filesystem::path& path, const std::vector<Hit>& hits)
 {
-    detail::write_file_atomically(path, encode<HitRecord>(hit_magic, hits.size(), [&](std::size_t i) {
+    OutputFile output(path);
+    write_hit_file(output, hits);
+}
+
+void write_hit_file(OutputFile& output, const std::vector<Hit>& hits)
+{
+    output.commit(encode<HitRecord>(hit_magic, hits.size(), [&](std::size_t i) {
         const Hit& h = hits[i];
         return HitRecord{h.triangle, h.t, h.u, h.v};
     }));

@@ -7,35 +7,54 @@
 #include <cstdint>
 #include <cstring>
 #include <span>
+#include <variant>
 
-#include "atomic_file.hpp"
 #include "checksum.hpp"
 #include "sg_file_layout.hpp"
+#include "splitgrid/formats/output_file.hpp"
 
 namespace sg {
 namespace {
 
 using detail::SgSection;
 
+/// Stores one BuildConfig field in its CONF slot (sg_conf_slots).
+void store_field(const BuildConfig& config, const BuildConfigField& field,
+                 detail::SgConfigRecord& record)
+{
+    const detail::SgConfSlot& slot = *detail::find_conf_slot(field.name);
+    auto* const at = reinterpret_cast<unsigned char*>(&record) + slot.offset;
+    switch (slot.kind) {
+    case detail::SgConfSlotKind::u32: {
+        const std::uint32_t value = config.*std::get<BuildConfigField::CountMember>(field.member);
+        std::memcpy(at, &value, sizeof value);
+        break;
+    }
+    case detail::SgConfSlotKind::f64: {
+        const double value = config.*std::get<BuildConfigField::RealMember>(field.member);
+        std::memcpy(at, &value, sizeof value);
+        break;
+    }
+    case detail::SgConfSlotKind::boolean_u32: {
+        const std::uint32_t value =
+            config.*std::get<BuildConfigField::SwitchMember>(field.member) ? 1u : 0u;
+        std::memcpy(at, &value, sizeof value);
+        break;
+    }
+    case detail::SgConfSlotKind::cleared_bit: {
+        std::uint32_t word = 0;
+        std::memcpy(&word, at, sizeof word);
+        if (!(config.*std::get<BuildConfigField::SwitchMember>(field.member))) word |= slot.bit;
+        std::memcpy(at, &word, sizeof word);
+        break;
+    }
+    }
+}
+
 detail::SgConfigRecord make_config_record(const SplitGrid& grid)
 {
-    // The structured binding stops compiling when a field is added to BuildConfig: the new
-    // field then needs a place in SgConfigRecord, docs/FORMAT.md and a new format version.
-    const auto& [resolution_min, resolution_max, resolution_sigma, leaf_size, max_depth,
-                 no_progress_fraction, min_cell_width, stop_by_cost, bounding_planes,
-                 clip_triangles, threads] = grid.config;
     detail::SgConfigRecord r{};
-    r.resolution_min = resolution_min;
-    r.resolution_max = resolution_max;
-    r.resolution_sigma = resolution_sigma;
-    r.leaf_size = leaf_size;
-    r.max_depth = max_depth;
-    r.no_progress_fraction = no_progress_fraction;
-    r.min_cell_width = min_cell_width;
-    r.stop_by_cost = stop_by_cost ? 1u : 0u;
-    r.threads = threads;
-    r.build_flags = (bounding_planes ? 0u : detail::sg_flag_no_bounding_planes) |
-                    (clip_triangles ? 0u : detail::sg_flag_no_clip_triangles);
+    for (const BuildConfigField& field : build_config_fields) store_field(grid.config, field, r);
     r.triangle_count = grid.triangle_count;
     r.root_lower = {grid.root_box.lower.x, grid.root_box.lower.y, grid.root_box.lower.z};
     r.root_upper = {grid.root_box.upper.x, grid.root_box.upper.y, grid.root_box.upper.z};
@@ -154,7 +173,13 @@ std::vector<std::uint8_t> encode_sg(const SgContents& contents)
 
 void write_sg_file(const std::filesystem::path& path, const SgContents& contents)
 {
-    detail::write_file_atomically(path, encode_sg(contents));
+    OutputFile output(path);
+    write_sg_file(output, contents);
+}
+
+void write_sg_file(OutputFile& output, const SgContents& contents)
+{
+    output.commit(encode_sg(contents));
 }
 
 }  // namespace sg

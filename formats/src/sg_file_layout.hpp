@@ -15,6 +15,7 @@
 #include <string_view>
 #include <type_traits>
 
+#include "splitgrid/build_config.hpp"
 #include "splitgrid/grid_node.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/vec3.hpp"
@@ -145,6 +146,73 @@ inline constexpr std::uint32_t sg_flag_no_bounding_planes = 1u << 0;
 inline constexpr std::uint32_t sg_flag_no_clip_triangles = 1u << 1;
 inline constexpr std::uint32_t sg_known_build_flags =
     sg_flag_no_bounding_planes | sg_flag_no_clip_triangles;
+
+/// How a BuildConfig field is stored in SgConfigRecord.
+enum class SgConfSlotKind {
+    u32,          ///< a count as a uint32
+    f64,          ///< a real as a float64
+    boolean_u32,  ///< a switch as a uint32: 0 false, 1 true, anything else is refused
+    cleared_bit,  ///< a switch as one bit of a uint32 flags word: set means false
+};
+
+/// Where one BuildConfig field (named as in build_config_fields) lives in the CONF record.
+struct SgConfSlot {
+    std::string_view field;
+    std::size_t offset;
+    SgConfSlotKind kind;
+    std::uint32_t bit = 0;  ///< for cleared_bit
+};
+
+/// The CONF slot of every BuildConfig field: the file reader and writer iterate
+/// build_config_fields and look each field up here. The layout above is the file format and
+/// does not follow the table's order.
+inline constexpr std::array<SgConfSlot, 11> sg_conf_slots{{
+    {"resolution_min", offsetof(SgConfigRecord, resolution_min), SgConfSlotKind::u32},
+    {"resolution_max", offsetof(SgConfigRecord, resolution_max), SgConfSlotKind::u32},
+    {"resolution_sigma", offsetof(SgConfigRecord, resolution_sigma), SgConfSlotKind::f64},
+    {"leaf_size", offsetof(SgConfigRecord, leaf_size), SgConfSlotKind::u32},
+    {"max_depth", offsetof(SgConfigRecord, max_depth), SgConfSlotKind::u32},
+    {"no_progress_fraction", offsetof(SgConfigRecord, no_progress_fraction),
+     SgConfSlotKind::f64},
+    {"min_cell_width", offsetof(SgConfigRecord, min_cell_width), SgConfSlotKind::f64},
+    {"stop_by_cost", offsetof(SgConfigRecord, stop_by_cost), SgConfSlotKind::boolean_u32},
+    {"bounding_planes", offsetof(SgConfigRecord, build_flags), SgConfSlotKind::cleared_bit,
+     sg_flag_no_bounding_planes},
+    {"clip_triangles", offsetof(SgConfigRecord, build_flags), SgConfSlotKind::cleared_bit,
+     sg_flag_no_clip_triangles},
+    {"threads", offsetof(SgConfigRecord, threads), SgConfSlotKind::u32},
+}};
+
+/// The slot of the field called `name`, or nullptr.
+[[nodiscard]] constexpr const SgConfSlot* find_conf_slot(std::string_view name)
+{
+    for (const SgConfSlot& slot : sg_conf_slots)
+        if (slot.field == name) return &slot;
+    return nullptr;
+}
+
+/// Every field of build_config_fields has exactly one slot, of a kind that fits its type.
+[[nodiscard]] consteval bool every_config_field_has_a_slot()
+{
+    if (sg_conf_slots.size() != build_config_fields.size()) return false;
+    for (const BuildConfigField& field : build_config_fields) {
+        std::size_t found = 0;
+        for (const SgConfSlot& slot : sg_conf_slots) {
+            if (slot.field != field.name) continue;
+            ++found;
+            const bool fits = slot.kind == SgConfSlotKind::u32    ? field.is_count()
+                              : slot.kind == SgConfSlotKind::f64 ? !field.is_count() &&
+                                                                       !field.is_switch()
+                                                                 : field.is_switch();
+            if (!fits) return false;
+        }
+        if (found != 1) return false;
+    }
+    return true;
+}
+static_assert(every_config_field_has_a_slot(),
+              "a BuildConfig field has no CONF slot (or one of the wrong kind): extend "
+              "SgConfigRecord and sg_conf_slots, docs/FORMAT.md and the format version");
 static_assert(sizeof(SgConfigRecord) == 10 * 4 + 3 * 8 + 2 * 12 && sizeof(SgConfigRecord) == 88 &&
                   std::is_trivially_copyable_v<SgConfigRecord>,
               "SgConfigRecord must be 88 bytes without padding: a BuildConfig field was added? "

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <span>
 #include <string_view>
+#include <variant>
 
 #include "checksum.hpp"
 #include "file_bytes.hpp"
@@ -110,6 +111,10 @@ private:
     }
 
     void check_magic_and_version() const;
+    /// Copies one BuildConfig field out of its CONF slot (sg_conf_slots), refusing a switch
+    /// stored as anything but 0 or 1.
+    void load_field(const detail::SgConfigRecord& record, std::uint64_t conf_at,
+                    const BuildConfigField& field, BuildConfig& config) const;
     void check_table_entry(std::size_t index, std::uint64_t& previous_end) const;
     [[nodiscard]] const detail::SgSectionEntry& entry(SgSection s) const
     {
@@ -312,29 +317,46 @@ void SgReader::check_sections(bool verify_checksums) const
     check_zero(previous_end, file_bytes_);
 }
 
+void SgReader::load_field(const detail::SgConfigRecord& record, std::uint64_t conf_at,
+                          const BuildConfigField& field, BuildConfig& config) const
+{
+    const detail::SgConfSlot& slot = *detail::find_conf_slot(field.name);
+    const auto* const at = reinterpret_cast<const unsigned char*>(&record) + slot.offset;
+    std::uint32_t word = 0;
+    switch (slot.kind) {
+    case detail::SgConfSlotKind::u32:
+        std::memcpy(&word, at, sizeof word);
+        config.*std::get<BuildConfigField::CountMember>(field.member) = word;
+        return;
+    case detail::SgConfSlotKind::f64: {
+        double value = 0.0;
+        std::memcpy(&value, at, sizeof value);
+        config.*std::get<BuildConfigField::RealMember>(field.member) = value;
+        return;
+    }
+    case detail::SgConfSlotKind::boolean_u32:
+        std::memcpy(&word, at, sizeof word);
+        if (word > 1)
+            fail_at("CONF " + std::string(field.name) + " is not a boolean", conf_at + slot.offset,
+                    "0 or 1", std::to_string(word));
+        config.*std::get<BuildConfigField::SwitchMember>(field.member) = word == 1;
+        return;
+    case detail::SgConfSlotKind::cleared_bit:
+        std::memcpy(&word, at, sizeof word);
+        config.*std::get<BuildConfigField::SwitchMember>(field.member) = (word & slot.bit) == 0;
+        return;
+    }
+}
+
 SgContents SgReader::decode(const SgReadOptions& options) const
 {
     SgContents contents;
     detail::SgConfigRecord config{};
     std::memcpy(&config, section_bytes(SgSection::config).data(), sizeof config);
 
-    BuildConfig& c = contents.grid.config;
-    c.resolution_min = config.resolution_min;
-    c.resolution_max = config.resolution_max;
-    c.resolution_sigma = config.resolution_sigma;
-    c.leaf_size = config.leaf_size;
-    c.max_depth = config.max_depth;
-    c.no_progress_fraction = config.no_progress_fraction;
-    c.min_cell_width = config.min_cell_width;
-    c.stop_by_cost = config.stop_by_cost != 0;
-    c.threads = config.threads;
-    c.bounding_planes = (config.build_flags & detail::sg_flag_no_bounding_planes) == 0;
-    c.clip_triangles = (config.build_flags & detail::sg_flag_no_clip_triangles) == 0;
     const std::uint64_t conf_at = entry(SgSection::config).offset;
-    if (config.stop_by_cost > 1)
-        fail_at("CONF stop_by_cost is not a boolean",
-                conf_at + offsetof(detail::SgConfigRecord, stop_by_cost), "0 or 1",
-                std::to_string(config.stop_by_cost));
+    for (const BuildConfigField& field : build_config_fields)
+        load_field(config, conf_at, field, contents.grid.config);
     if (config.reserved != 0)
         fail_at("reserved CONF field is not zero",
                 conf_at + offsetof(detail::SgConfigRecord, reserved), "0",
@@ -344,7 +366,7 @@ SgContents SgReader::decode(const SgReadOptions& options) const
                 conf_at + offsetof(detail::SgConfigRecord, build_flags), "bits 0-1 only",
                 hex32(config.build_flags));
     try {
-        validate(c);
+        validate(contents.grid.config);
     } catch (const Error& e) {
         fail(section_label(SgSection::config) + ": " + one_line(e.what()));
     }

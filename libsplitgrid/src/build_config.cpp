@@ -1,6 +1,10 @@
 #include "splitgrid/build_config.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <string>
+#include <variant>
 
 #include "config_check.hpp"
 #include "splitgrid/error.hpp"
@@ -8,30 +12,62 @@
 namespace sg {
 namespace {
 
-template <class T, class L, class H>
-void check_range(const char* field, T value, L low, H high, bool low_open = false)
+/// A count or real field's value as a double (counts are at most 2^32 - 1: exact).
+double numeric_value(const BuildConfig& config, const BuildConfigField& field)
 {
-    detail::check_config_range("BuildConfig", field, value, low, high, low_open);
+    return std::visit([&](auto member) { return static_cast<double>(config.*member); },
+                      field.member);
+}
+
+/// The value as the user wrote it: counts as integers, reals in the shortest form.
+std::string value_text(const BuildConfig& config, const BuildConfigField& field)
+{
+    if (const auto* count = std::get_if<BuildConfigField::CountMember>(&field.member))
+        return std::to_string(config.**count);
+    std::ostringstream text;
+    text << numeric_value(config, field);
+    return text.str();
+}
+
+std::string field_label(std::string_view name) { return "BuildConfig." + std::string(name); }
+
+void check_field_range(const BuildConfig& config, const BuildConfigField& field)
+{
+    const std::string name(field.name);
+    if (const auto* count = std::get_if<BuildConfigField::CountMember>(&field.member)) {
+        // Bounds as integers, so that the message prints 1048576 rather than 1.04858e+06.
+        detail::check_config_range("BuildConfig", name.c_str(), config.**count,
+                                   static_cast<std::uint32_t>(field.low),
+                                   static_cast<std::uint32_t>(field.high), field.low_open);
+    } else if (const auto* real = std::get_if<BuildConfigField::RealMember>(&field.member)) {
+        if (!std::isfinite(config.**real))
+            throw ConfigError(field_label(field.name) + " must be a finite number");
+        detail::check_config_range("BuildConfig", name.c_str(), config.**real, field.low,
+                                   field.high, field.low_open);
+    }
 }
 
 }  // namespace
 
 void validate(const BuildConfig& config)
 {
-    check_range("resolution_max", config.resolution_max, 2, 1u << 20);
-    check_range("resolution_min", config.resolution_min, 1, config.resolution_max);
-    if (!std::isfinite(config.resolution_sigma))
-        throw ConfigError("BuildConfig.resolution_sigma must be a finite number");
-    check_range("resolution_sigma", config.resolution_sigma, 0.0, 1e9, true);
-    check_range("leaf_size", config.leaf_size, 1, 1u << 20);
-    check_range("max_depth", config.max_depth, 0, max_supported_depth);
-    if (!std::isfinite(config.no_progress_fraction))
-        throw ConfigError("BuildConfig.no_progress_fraction must be a finite number");
-    check_range("no_progress_fraction", config.no_progress_fraction, 0.0, 1.0, true);
-    if (!std::isfinite(config.min_cell_width))
-        throw ConfigError("BuildConfig.min_cell_width must be a finite number");
-    check_range("min_cell_width", config.min_cell_width, 0.0, 1e6);
-    check_range("threads", config.threads, 0, 1024);
+    // The structured binding stops compiling when a field is added to BuildConfig: then add it
+    // to build_config_fields, which everything else iterates.
+    [[maybe_unused]] const auto& [resolution_min, resolution_max, resolution_sigma, leaf_size,
+                                  max_depth, no_progress_fraction, min_cell_width, stop_by_cost,
+                                  bounding_planes, clip_triangles, threads] = config;
+
+    for (const BuildConfigField& field : build_config_fields) check_field_range(config, field);
+    for (const BuildConfigField& field : build_config_fields) {
+        if (field.at_most.empty()) continue;
+        const BuildConfigField& limit = *find_build_config_field(field.at_most);
+        const double value = numeric_value(config, field);
+        const double limit_value = numeric_value(config, limit);
+        if (value <= limit_value) continue;
+        throw ConfigError(field_label(field.name) + " = " + value_text(config, field) +
+                          " is above " + field_label(limit.name) + " = " +
+                          value_text(config, limit));
+    }
 }
 
 }  // namespace sg

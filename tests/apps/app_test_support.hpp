@@ -1,10 +1,12 @@
 #pragma once
 
 // Helpers for the end-to-end tests of the command-line tools: run a tool binary and capture
-// its exit code, stdout and stderr; a scratch folder per test; paths of the test models.
+// its exit code, stdout and stderr (or start it and wait for something it does, to send it a
+// signal); a scratch folder per test; paths of the test models.
 // Header-only because tests/CMakeLists.txt compiles only tests/apps/*_test.cpp.
 
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -17,6 +19,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "support/scratch_dir.hpp"
@@ -34,15 +37,25 @@ struct ToolRun {
     std::string err;     ///< everything written to stderr
 };
 
-/// Runs `exe` with `args` (no shell: arguments are passed as they are), stdout and stderr
-/// redirected to files in `scratch`, and waits for it.
-inline ToolRun run_tool(const std::string& exe, const std::vector<std::string>& args,
-                        const ScratchDir& scratch)
+/// A tool started by start_tool() and not yet waited for.
+struct RunningTool {
+    pid_t pid = -1;
+    std::filesystem::path out_path;  ///< where its stdout goes
+    std::filesystem::path err_path;  ///< where its stderr goes
+    std::string exe;
+};
+
+/// Starts `exe` with `args` (no shell: arguments are passed as they are), stdout and stderr
+/// redirected to files in `scratch`, in the folder `cwd` (the test's own if empty).
+inline RunningTool start_tool(const std::string& exe, const std::vector<std::string>& args,
+                              const ScratchDir& scratch, const std::filesystem::path& cwd = {})
 {
     static std::atomic<int> run_counter{0};
     const int id = run_counter++;
-    const std::filesystem::path out_path = scratch / ("run" + std::to_string(id) + ".stdout");
-    const std::filesystem::path err_path = scratch / ("run" + std::to_string(id) + ".stderr");
+    RunningTool tool;
+    tool.exe = exe;
+    tool.out_path = scratch / ("run" + std::to_string(id) + ".stdout");
+    tool.err_path = scratch / ("run" + std::to_string(id) + ".stderr");
 
     std::vector<std::string> storage;
     storage.reserve(args.size() + 1);
@@ -54,26 +67,84 @@ inline ToolRun run_tool(const std::string& exe, const std::vector<std::string>& 
 
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out_path.c_str(),
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, tool.out_path.c_str(),
                                      O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(),
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, tool.err_path.c_str(),
                                      O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    pid_t pid = 0;
-    const int spawn_error = ::posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(),
+    if (!cwd.empty()) posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
+    const int spawn_error = ::posix_spawn(&tool.pid, exe.c_str(), &actions, nullptr, argv.data(),
                                           environ);
     posix_spawn_file_actions_destroy(&actions);
     if (spawn_error != 0)
         throw std::runtime_error("cannot start " + exe + ": " + std::strerror(spawn_error));
+    return tool;
+}
 
+/// Waits for a started tool and collects what it wrote.
+inline ToolRun finish_tool(const RunningTool& tool)
+{
     int status = 0;
-    while (::waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) throw std::runtime_error("waitpid failed for " + exe);
-
+    while (::waitpid(tool.pid, &status, 0) < 0)
+        if (errno != EINTR) throw std::runtime_error("waitpid failed for " + tool.exe);
     ToolRun run;
     run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    run.out = read_text(out_path);
-    run.err = read_text(err_path);
+    run.out = read_text(tool.out_path);
+    run.err = read_text(tool.err_path);
     return run;
+}
+
+/// Runs `exe` with `args` like start_tool() and waits for it.
+inline ToolRun run_tool(const std::string& exe, const std::vector<std::string>& args,
+                        const ScratchDir& scratch, const std::filesystem::path& cwd = {})
+{
+    return finish_tool(start_tool(exe, args, scratch, cwd));
+}
+
+/// Whether the started tool has ended (it stays a zombie for finish_tool to collect).
+inline bool has_ended(const RunningTool& tool)
+{
+    siginfo_t info{};
+    return ::waitid(P_PID, static_cast<id_t>(tool.pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+           info.si_pid == tool.pid;
+}
+
+/// Polls `condition` every millisecond until it holds (true) or the tool has ended without
+/// it holding (false). There is no time limit: the condition is one the tool reaches
+/// (a temporary file that it creates) or the tool ends.
+template <class Condition>
+bool wait_until(const RunningTool& tool, Condition condition)
+{
+    for (;;) {
+        if (condition()) return true;
+        if (has_ended(tool)) return condition();
+        ::usleep(1000);
+    }
+}
+
+/// Names of the entries of `folder` that start with `prefix`.
+inline std::vector<std::string> entries_starting_with(const std::filesystem::path& folder,
+                                                      const std::string& prefix)
+{
+    std::vector<std::string> found;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(folder, ec)) {
+        const std::string name = e.path().filename().string();
+        if (name.rfind(prefix, 0) == 0) found.push_back(name);
+    }
+    return found;
+}
+
+/// A folder in which no file can be created: a read-only folder in `scratch`, or, for root
+/// (who may write anywhere the permissions forbid), /sys, where the kernel refuses new
+/// files even to root.
+inline std::filesystem::path unwritable_folder(const ScratchDir& scratch)
+{
+    if (::geteuid() == 0) return "/sys";
+    const std::filesystem::path folder = scratch / "read_only";
+    std::filesystem::create_directory(folder);
+    std::filesystem::permissions(folder, std::filesystem::perms::owner_read |
+                                             std::filesystem::perms::owner_exec);
+    return folder;
 }
 
 /// For assertion messages: the command's output streams.

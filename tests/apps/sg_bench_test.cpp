@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -119,8 +121,82 @@ TEST(SgBench, QuickRunWritesResultsThatMatchTheInputs)
         EXPECT_GT(dims[1], 200) << chart;
 #endif
     }
-    // The table on stdout names every structure.
+    // The table on stdout names every structure; nothing else goes there. stderr ends with
+    // the list of the files written.
     for (const std::string& s : structures) EXPECT_NE(run.out.find(s), std::string::npos) << s;
+    EXPECT_EQ(run.out.find("wrote"), std::string::npos) << run.out;
+    EXPECT_EQ(run.out.find("info"), std::string::npos) << run.out;
+    EXPECT_EQ(run.out.rfind("\nWuson (", 0), 0u) << run.out;
+    const std::size_t list = run.err.find("s and wrote:\n");
+    ASSERT_NE(list, std::string::npos) << run.err;
+    for (const char* file : {"results.json", "results.csv", "figure3.png", "speed_vs_accuracy.png",
+                             "sweep_build_vs_trace.png", "memory_scaling.png"})
+        EXPECT_NE(run.err.find("info:   " + (out / file).string() + "\n", list), std::string::npos)
+            << file << " not listed in\n" << run.err;
+    EXPECT_EQ(run.err.find("info: no "), std::string::npos) << "every chart was made";
+
+    // The report made from these results names files without the machine's folders.
+    const fs::path report = scratch / "RESULTS.md";
+    const std::string command = "/usr/bin/python3 " SG_SCRIPTS_DIR "/bench_report.py '" +
+                                (out / "results.json").string() + "' '" + out.string() +
+                                "' '' > '" + report.string() + "'";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    const std::string markdown = read_text(report);
+    EXPECT_NE(markdown.find("Source: Wuson.ply."), std::string::npos) << markdown;
+    EXPECT_EQ(markdown.find(model.parent_path().string()), std::string::npos) << markdown;
+    EXPECT_EQ(markdown.find(scratch.path().string()), std::string::npos) << markdown;
+}
+
+TEST(SgBench, ScenesGetUniqueNamesAndMissingChartsAreNamed)
+{
+    // Two scene files that share their name, one of them given twice; no sweep, no
+    // watertightness workload and no scale series, so only figure3.png can be drawn.
+    ScratchDir scratch;
+    for (const char* folder : {"a", "b"}) {
+        fs::create_directory(scratch / folder);
+        fs::copy_file(assimp_model("PLY/Wuson.ply"), scratch / folder / "scene.ply");
+    }
+    const fs::path out = scratch / "bench";
+    const std::string a = (scratch / "a" / "scene.ply").string();
+    const std::string b = (scratch / "b" / "scene.ply").string();
+    const ToolRun run = run_tool(
+        SG_BENCH_EXE,
+        {"--quick", "--width", "32", "--height", "24", "--incoherent-rays", "1000", "--threads",
+         "1", "--structures", "splitgrid,bvh", "--no-sweep", "--watertight-rays", "0", "-o",
+         out.string(), a, b, a},
+        scratch);
+    ASSERT_EQ(run.exit_code, 0) << describe(run);
+
+    const json j = json::parse(read_text(out / "results.json"));
+    std::vector<std::string> names;
+    for (const json& scene : j.at("scenes")) names.push_back(scene.at("scene"));
+    EXPECT_EQ(names, (std::vector<std::string>{"a_scene", "b_scene", "a_scene_2"}));
+    const std::string csv = read_text(out / "results.csv");
+    for (const std::string& name : names)
+        EXPECT_NE(csv.find("\n" + name + ","), std::string::npos) << name << " in\n" << csv;
+
+    for (const char* missing : {"speed_vs_accuracy.png", "sweep_build_vs_trace.png",
+                                "memory_scaling.png"}) {
+        EXPECT_NE(run.err.find(std::string("info: no ") + missing + ": it needs "),
+                  std::string::npos)
+            << missing << " not explained in\n" << run.err;
+        EXPECT_FALSE(fs::exists(out / missing)) << missing;
+    }
+    EXPECT_NE(run.err.find("--no-sweep"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("--scale-sizes"), std::string::npos) << run.err;
+    ASSERT_TRUE(fs::exists(out / "figure3.png")) << run.err;
+    // The list of files written is what the folder holds.
+    const std::size_t list = run.err.find("s and wrote:\n");
+    ASSERT_NE(list, std::string::npos) << run.err;
+    std::vector<std::string> listed;
+    std::istringstream lines(run.err.substr(list));
+    std::string line;
+    std::getline(lines, line);
+    while (std::getline(lines, line))
+        if (line.rfind("info:   ", 0) == 0) listed.push_back(fs::path(line.substr(8)).filename());
+    std::sort(listed.begin(), listed.end());
+    EXPECT_EQ(listed, folder_entries(out));
+    EXPECT_EQ(run.out.find("wrote"), std::string::npos) << run.out;
 }
 
 TEST(SgBench, BadFlagsAreUsageErrorsAndLeaveNothing)

@@ -296,8 +296,10 @@ protected:
                                                           << ":\n" << run.err;
         EXPECT_EQ(run.out, "");
         EXPECT_FALSE(fs::exists(out));
+        // Temporary files are named ".<output>.tmp-<pid>-<random>" (sg::OutputFile).
         for (const auto& entry : fs::directory_iterator(scratch_.path()))
-            EXPECT_NE(entry.path().extension(), ".tmp") << "temporary file left behind";
+            EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos)
+                << entry.path() << ": temporary file left behind";
     }
     void expect_usage_error(std::vector<std::string> extra, const std::string& named)
     {

@@ -3,18 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <cerrno>
-#include <cstdio>
 #include <cstring>
-#include <random>
 #include <string_view>
-#include <system_error>
-#include <utility>
-
-#include <fcntl.h>
-#include <unistd.h>
 
 #include "splitgrid/error.hpp"
+#include "splitgrid/formats/output_file.hpp"
 
 #include <vtkBMPWriter.h>
 #include <vtkErrorCode.h>
@@ -74,51 +67,6 @@ vtkNew<vtkImageData> to_vtk(const RgbImage& image)
     return data;
 }
 
-/// Reserves a fresh name beside `target` by creating the file (O_EXCL, mode 0666 less the
-/// umask, so the final file gets the permissions of any new file); the writer then fills it.
-fs::path reserve_temporary(const fs::path& target)
-{
-    const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    std::random_device random;
-    int error = 0;
-    for (int attempt = 0; attempt < 32; ++attempt) {
-        char suffix[20];
-        std::snprintf(suffix, sizeof suffix, "%08x%08x", random(), random());
-        // Built by appending: GCC 12 warns falsely (-Wrestrict) on chained string '+'.
-        std::string leaf(".");
-        leaf.append(target.filename().string()).append(".").append(suffix).append(".tmp");
-        fs::path candidate = folder / leaf;
-        const int fd = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0) {
-            ::close(fd);
-            return candidate;
-        }
-        error = errno;
-        if (error != EEXIST) break;
-    }
-    throw IoError(target.string() + ": cannot create a temporary file in " + folder.string() +
-                  ": " + std::error_code(error, std::generic_category()).message());
-}
-
-/// Removes the temporary file unless it was renamed into place.
-class TemporaryName {
-public:
-    explicit TemporaryName(fs::path path) : path_(std::move(path)) {}
-    TemporaryName(const TemporaryName&) = delete;
-    TemporaryName& operator=(const TemporaryName&) = delete;
-    ~TemporaryName()
-    {
-        if (path_.empty()) return;
-        std::error_code ignored;
-        fs::remove(path_, ignored);
-    }
-    [[nodiscard]] const fs::path& path() const noexcept { return path_; }
-    void release() noexcept { path_.clear(); }
-
-private:
-    fs::path path_;
-};
-
 /// VTK reports writer failures on its own output window (several lines on stderr) as well as
 /// in the error code; the caller turns the code into one exception, so the window is muted
 /// while the writer runs.
@@ -169,10 +117,12 @@ std::string supported_image_extensions()
     return list;
 }
 
-void write_image(const fs::path& path, const RgbImage& image)
+namespace {
+
+/// Refuses what no writer can write, before any file is touched.
+void check_writable(const fs::path& path, const RgbImage& image)
 {
-    const std::optional<ImageFormat> format = image_format_for(path);
-    if (!format)
+    if (!image_format_for(path))
         throw ConfigError(path.string() + ": unsupported image extension (use one of " +
                           supported_image_extensions() + ")");
     if (image.width <= 0 || image.height <= 0 ||
@@ -180,15 +130,25 @@ void write_image(const fs::path& path, const RgbImage& image)
                                 static_cast<std::size_t>(image.height) * 3u)
         throw ConfigError(path.string() + ": the image is empty or its pixel buffer has the "
                                           "wrong size");
-    const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
-    std::error_code ec;
-    if (!fs::is_directory(folder, ec))
-        throw IoError(path.string() + ": folder " + folder.string() + " does not exist");
+}
 
-    TemporaryName temporary(reserve_temporary(path));
+}  // namespace
+
+void write_image(const fs::path& path, const RgbImage& image)
+{
+    check_writable(path, image);
+    OutputFile output(path);
+    write_image(output, image);
+}
+
+void write_image(OutputFile& output, const RgbImage& image)
+{
+    const fs::path& path = output.target();
+    check_writable(path, image);
+    const ImageFormat format = *image_format_for(path);
     vtkNew<vtkImageData> data = to_vtk(image);
-    vtkSmartPointer<vtkImageWriter> writer = make_writer(*format);
-    writer->SetFileName(temporary.path().c_str());
+    vtkSmartPointer<vtkImageWriter> writer = make_writer(format);
+    writer->SetFileName(output.temporary_path().c_str());
     writer->SetInputData(data);
     unsigned long error_code = vtkErrorCode::NoError;
     {
@@ -197,11 +157,9 @@ void write_image(const fs::path& path, const RgbImage& image)
         error_code = writer->GetErrorCode();
     }
     if (error_code != vtkErrorCode::NoError)
-        throw IoError(path.string() + ": the " + format_name(*format) +
+        throw IoError(path.string() + ": the " + format_name(format) +
                       " writer failed: " + vtkErrorCode::GetStringFromErrorCode(error_code));
-    fs::rename(temporary.path(), path, ec);
-    if (ec) throw IoError(path.string() + ": cannot rename the temporary file: " + ec.message());
-    temporary.release();
+    output.commit_written();
 }
 
 }  // namespace sg

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <random>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -86,22 +87,32 @@ void fsync_tree(const fs::path& root)
     for (auto it = folders.rbegin(); it != folders.rend(); ++it) fsync_path(*it, true);
 }
 
-fs::path make_staging_folder(const fs::path& target)
+/// The name of staging folders: "sg-export", as in ".<target name>.sg-export-<pid>-<random>".
+constexpr const char* staging_kind = "sg-export";
+
+/// Creates a new hidden folder beside `target` and registers it for removal on an interrupt
+/// before it exists, so that no interrupt finds it unregistered. mkdir's mode 0777 gives it
+/// the permissions of any new folder (mkdtemp would make it private).
+fs::path make_staging_folder(const fs::path& target, CleanupEntry& cleanup)
 {
     const fs::path parent = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-    // Appended piece by piece: g++ 12 gives a false -Wrestrict warning for "." + string.
-    std::string name = ".";
-    name += target.filename().string();
-    name += ".sg-export-XXXXXX";
-    std::string pattern = (parent / name).string();
-    if (::mkdtemp(pattern.data()) == nullptr)
-        fail(target, "cannot create a folder beside it: " + errno_text(errno));
-    // mkdtemp makes the folder private (0700); the export should get the permissions of an
-    // ordinary new folder. umask() can only be read by setting it, so it is set back at once.
-    const mode_t mask = ::umask(0);
-    ::umask(mask);
-    ::chmod(pattern.c_str(), 0777 & ~mask);
-    return pattern;
+    const std::string prefix = temporary_prefix(target, staging_kind);
+    std::random_device seed_source;
+    std::mt19937 random(seed_source());
+    int error = 0;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        char suffix[9];
+        std::snprintf(suffix, sizeof suffix, "%08x", static_cast<unsigned>(random()));
+        fs::path candidate = parent / (prefix + suffix);
+        CleanupEntry entry = CleanupEntry::folder(candidate);
+        if (::mkdir(candidate.c_str(), 0777) == 0) {
+            cleanup = std::move(entry);
+            return candidate;
+        }
+        error = errno;
+        if (error != EEXIST) break;
+    }
+    fail(target, "cannot create a folder beside it: " + errno_text(error));
 }
 
 }  // namespace
@@ -110,7 +121,8 @@ StagedFolder::StagedFolder(fs::path target, bool replace_existing)
     : target_(without_trailing_separator(std::move(target))), replace_existing_(replace_existing)
 {
     check_target(target_, replace_existing_);
-    staging_ = make_staging_folder(target_);
+    stale_removed_ = remove_stale_temporaries(target_, staging_kind);
+    staging_ = make_staging_folder(target_, cleanup_);
 }
 
 StagedFolder::~StagedFolder()
@@ -125,39 +137,59 @@ void StagedFolder::commit()
     fsync_tree(staging_);
     // Checked again: the target may have changed while the export was being written.
     if (!check_target(target_, replace_existing_)) {
+        // The rename and forgetting the staging folder are one step for the interrupt
+        // cleanup: either the export is in place, or the staging folder is removed.
+        const auto hold = hold_off_cleanup();
         // rename(2) replaces an empty folder atomically and refuses a non-empty one.
         if (::rename(staging_.c_str(), target_.c_str()) != 0)
             fail(target_, "cannot rename " + staging_.string() + " to it: " + errno_text(errno));
+        committed_ = true;
+        cleanup_.release_locked();
     } else {
         swap_in();
     }
-    committed_ = true;
     fsync_path(target_.parent_path().empty() ? fs::path(".") : target_.parent_path(), true);
 }
 
 void StagedFolder::swap_in()
 {
     std::error_code ec;
-    if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) ==
-        0) {
-        // The staging path now holds the earlier export.
+    {
+        const auto hold = hold_off_cleanup();
+        if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, target_.c_str(),
+                        RENAME_EXCHANGE) == 0) {
+            // The staging path now holds the earlier export: it stays registered until it
+            // is removed, so an interrupt removes it too.
+            committed_ = true;
+        } else if (errno != EINVAL && errno != ENOSYS) {
+            fail(target_, "cannot swap in " + staging_.string() + ": " + errno_text(errno));
+        }
+    }
+    if (committed_) {
         fs::remove_all(staging_, ec);
+        cleanup_.release();
         return;
     }
-    if (errno != EINVAL && errno != ENOSYS)
-        fail(target_, "cannot swap in " + staging_.string() + ": " + errno_text(errno));
     // No atomic exchange on this file system: move the earlier export aside first. In the
-    // short gap between the two renames the target does not exist.
-    const fs::path old = make_staging_folder(target_);
-    if (::rename(target_.c_str(), old.c_str()) != 0) {
-        const int error = errno;
-        fs::remove_all(old, ec);
-        fail(target_, "cannot move the earlier export aside: " + errno_text(error));
-    }
-    if (::rename(staging_.c_str(), target_.c_str()) != 0) {
-        const int error = errno;
-        ::rename(old.c_str(), target_.c_str());
-        fail(target_, "cannot rename " + staging_.string() + " to it: " + errno_text(error));
+    // short gap between the two renames the target does not exist; no interrupt cleanup
+    // runs in it, so the earlier export is never lost.
+    CleanupEntry old_cleanup;
+    const fs::path old = make_staging_folder(target_, old_cleanup);
+    {
+        const auto hold = hold_off_cleanup();
+        // rename(2) replaces the empty folder just made.
+        if (::rename(target_.c_str(), old.c_str()) != 0) {
+            const int error = errno;
+            fs::remove_all(old, ec);
+            fail(target_, "cannot move the earlier export aside: " + errno_text(error));
+        }
+        if (::rename(staging_.c_str(), target_.c_str()) != 0) {
+            const int error = errno;
+            ::rename(old.c_str(), target_.c_str());
+            fail(target_, "cannot rename " + staging_.string() + " to it: " + errno_text(error));
+        }
+        committed_ = true;
+        cleanup_.release_locked();
     }
     fs::remove_all(old, ec);
 }

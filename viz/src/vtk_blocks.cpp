@@ -5,7 +5,9 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <variant>
 
+#include "splitgrid/build_config.hpp"
 #include "splitgrid/version.hpp"
 
 #include <vtkCellArray.h>
@@ -252,16 +254,20 @@ void add_field_data(vtkDataObject& block, const FieldFacts& facts)
     add_string_field(f, "structure_name", facts.metadata->structure_name);
     add_string_field(f, "splitgrid_version", version_string);
 
-    add_field<vtkTypeInt64Array>(f, "build_resolution_min", c.resolution_min);
-    add_field<vtkTypeInt64Array>(f, "build_resolution_max", c.resolution_max);
-    add_field<vtkDoubleArray>(f, "build_resolution_sigma", c.resolution_sigma);
-    add_field<vtkTypeInt64Array>(f, "build_leaf_size", c.leaf_size);
-    add_field<vtkTypeInt64Array>(f, "build_max_depth", c.max_depth);
-    add_field<vtkDoubleArray>(f, "build_no_progress_fraction", c.no_progress_fraction);
-    add_field<vtkDoubleArray>(f, "build_min_cell_width", c.min_cell_width);
-    add_field<vtkTypeInt64Array>(f, "build_stop_by_cost", c.stop_by_cost ? 1 : 0);
-    add_field<vtkTypeInt64Array>(f, "build_bounding_planes", c.bounding_planes ? 1 : 0);
-    add_field<vtkTypeInt64Array>(f, "build_clip_triangles", c.clip_triangles ? 1 : 0);
+    // One build_<field> per BuildConfig field (build_config_fields): counts and switches
+    // (0 or 1) as integers, reals as doubles. The thread count is left out: it does not
+    // change the grid and is not kept in it.
+    for (const BuildConfigField& field : build_config_fields) {
+        if (field.name == "threads") continue;
+        const std::string name = "build_" + std::string(field.name);
+        if (const auto* real = std::get_if<BuildConfigField::RealMember>(&field.member))
+            add_field<vtkDoubleArray>(f, name.c_str(), c.**real);
+        else if (const auto* count = std::get_if<BuildConfigField::CountMember>(&field.member))
+            add_field<vtkTypeInt64Array>(f, name.c_str(), c.**count);
+        else
+            add_field<vtkTypeInt64Array>(
+                f, name.c_str(), c.*std::get<BuildConfigField::SwitchMember>(field.member) ? 1 : 0);
+    }
 
     add_field<vtkTypeInt64Array>(f, "grid_triangle_count", grid.triangle_count);
     add_field<vtkTypeInt64Array>(f, "grid_node_count", static_cast<vtkTypeInt64>(grid.nodes.size()));

@@ -158,6 +158,30 @@ ExportSummary export_vtk(const SplitGrid& grid, const MeshView& mesh,
                          const ExportOptions& options, const ExportMetadata& metadata,
                          const fs::path& out_dir)
 {
+    ExportFolder folder(out_dir, options.replace_existing);
+    return export_vtk(grid, mesh, options, metadata, folder);
+}
+
+ExportFolder::ExportFolder(const fs::path& out_dir, bool replace_existing)
+    : out_dir_(out_dir), replace_existing_(replace_existing),
+      staged_(std::make_unique<detail::StagedFolder>(out_dir, replace_existing))
+{
+}
+
+ExportFolder::~ExportFolder() = default;
+
+const std::vector<fs::path>& ExportFolder::stale_removed() const noexcept
+{
+    return staged_->stale_removed();
+}
+
+ExportSummary export_vtk(const SplitGrid& grid, const MeshView& mesh,
+                         const ExportOptions& options, const ExportMetadata& metadata,
+                         ExportFolder& folder)
+{
+    if (options.replace_existing != folder.replace_existing())
+        throw ConfigError(folder.path().string() + ": the export folder was reserved with a "
+                                                   "different replace_existing");
     Plan plan = make_plan(grid, mesh, options);
     const ExportCounts& counts = plan.counts;
     if (options.primitive_limit != 0 && counts.primitives() > options.primitive_limit)
@@ -165,9 +189,8 @@ ExportSummary export_vtk(const SplitGrid& grid, const MeshView& mesh,
                                    " cells and planes, more than the limit of " +
                                    std::to_string(options.primitive_limit),
                                counts, options.primitive_limit);
-
-    // Checks out_dir before the blocks are built, so that a refusal comes at once.
-    detail::StagedFolder staged(out_dir, options.replace_existing);
+    const fs::path& out_dir = folder.path();
+    detail::StagedFolder& staged = folder.staged();
 
     const detail::FieldFacts facts{&grid, &metadata, &options, plan.hierarchy.total_cost};
     vtkNew<vtkMultiBlockDataSet> blocks;

@@ -1,6 +1,9 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <string_view>
+#include <variant>
 
 namespace sg {
 
@@ -9,7 +12,9 @@ inline constexpr std::uint32_t max_supported_depth = 64;
 
 /// Every parameter of the Split Grid builder. Flags of sg-build and sg-bench map one-to-one
 /// onto these fields (`--leaf-size` sets leaf_size, and so on). validate() names the field,
-/// the value and the valid range of the first bad field.
+/// the value and the valid range of the first bad field. build_config_fields (below) lists
+/// every field once, with its range and help: validation, the tools' flags, their JSON and
+/// the .sg file's CONF section all go through that table.
 ///
 /// The resolution of a node with n triangles is (see resolution.hpp)
 ///   N(n) = round(resolution_min + (resolution_max - resolution_min)
@@ -70,8 +75,95 @@ struct BuildConfig {
     friend constexpr bool operator==(const BuildConfig&, const BuildConfig&) = default;
 };
 
+/// One field of BuildConfig as build_config_fields describes it: how to reach it, its valid
+/// range and a help text. The default is the member's own initialiser (read it from
+/// BuildConfig{} through `member`), so it is written down once.
+struct BuildConfigField {
+    using CountMember = std::uint32_t BuildConfig::*;  ///< a whole number
+    using RealMember = double BuildConfig::*;          ///< a finite real number
+    using SwitchMember = bool BuildConfig::*;          ///< on or off
+    using Member = std::variant<CountMember, RealMember, SwitchMember>;
+
+    /// The member's name: the JSON key, the .sg CONF slot and, with '_' as '-', the flag
+    /// (`--leaf-size`; switches also get `--no-<name>`).
+    std::string_view name;
+    Member member;
+    /// Valid range of a count or a real: [low, high], or (low, high] when low_open. Unused for
+    /// switches.
+    double low = 0.0;
+    double high = 0.0;
+    bool low_open = false;
+    /// The field this one may not exceed (resolution_min may not exceed resolution_max), or
+    /// empty. Checked after every field's own range.
+    std::string_view at_most;
+    /// One paragraph for --help: what the field does (range and default are added by the
+    /// tools from the entries above).
+    std::string_view help;
+
+    [[nodiscard]] constexpr bool is_switch() const noexcept
+    {
+        return std::holds_alternative<SwitchMember>(member);
+    }
+    [[nodiscard]] constexpr bool is_count() const noexcept
+    {
+        return std::holds_alternative<CountMember>(member);
+    }
+};
+
+/// Every BuildConfig field, in declaration order (the order of the JSON keys). Adding a field
+/// to BuildConfig means adding it here; formats/src/sg_file_layout.hpp then refuses to
+/// compile until the field has a place in the .sg file's CONF record.
+inline constexpr std::array<BuildConfigField, 11> build_config_fields{{
+    {"resolution_min", &BuildConfig::resolution_min, 1, 1u << 20, false, "resolution_max",
+     "Fewest cells of an inner node, used by small nodes near the leaves (2 makes them binary "
+     "splits)."},
+    {"resolution_max", &BuildConfig::resolution_max, 2, 1u << 20, false, {},
+     "Most cells of an inner node, reached by nodes with several sigma triangles (near the "
+     "root)."},
+    {"resolution_sigma", &BuildConfig::resolution_sigma, 0.0, 1e9, true, {},
+     "Width of the Gaussian resolution function, in triangles: a node with sigma triangles "
+     "gets 39% of the way from min to max cells, 2 sigma 86%, 3 sigma 99%."},
+    {"leaf_size", &BuildConfig::leaf_size, 1, 1u << 20, false, {},
+     "A cell with at most this many triangles becomes a leaf."},
+    {"max_depth", &BuildConfig::max_depth, 0, max_supported_depth, false, {},
+     "Deepest inner node (the root is depth 0); cells of a node at this depth become "
+     "leaves."},
+    {"no_progress_fraction", &BuildConfig::no_progress_fraction, 0.0, 1.0, true, {},
+     "A split makes no progress when two or more cells, or every non-empty cell, would "
+     "receive more than this fraction of the node's triangles; it is retried on the other "
+     "axes before the node becomes a leaf."},
+    {"min_cell_width", &BuildConfig::min_cell_width, 0.0, 1e6, false, {},
+     "Cells are never narrower than this many times the mean extent of the node's triangles "
+     "along the split axis (slicing finer than the triangles only copies references); 0 "
+     "disables the cap."},
+    {"stop_by_cost", &BuildConfig::stop_by_cost, 0, 0, false, {},
+     "Keep a split only if it lowers the expected traversal cost of the surface-area model "
+     "(sg-stats), with its cells taken as leaves; a split that fails is retried on the other "
+     "axes."},
+    {"bounding_planes", &BuildConfig::bounding_planes, 0, 0, false, {},
+     "Cut each node's slab down to the tight extent of its triangles along the split axis "
+     "(the Split Grid's bounding planes); off, the slab is the node box itself: a plain "
+     "nested grid."},
+    {"clip_triangles", &BuildConfig::clip_triangles, 0, 0, false, {},
+     "Reference a triangle only in the cells the triangle itself touches (exact clipping); "
+     "off, its bounding box decides, which builds faster and makes more references."},
+    {"threads", &BuildConfig::threads, 0, 1024, false, {},
+     "Worker threads for the build, 0 = all hardware threads; the output is bit-identical "
+     "for every value."},
+}};
+
+/// The entry of build_config_fields called `name`, or nullptr.
+[[nodiscard]] constexpr const BuildConfigField* find_build_config_field(std::string_view name)
+{
+    for (const BuildConfigField& field : build_config_fields)
+        if (field.name == name) return &field;
+    return nullptr;
+}
+
 /// Throws ConfigError naming the first field outside its range, e.g.
-/// "BuildConfig.leaf_size = 0 is out of range [1, 1048576]".
+/// "BuildConfig.leaf_size = 0 is out of range [1, 1048576]", then the first field above the
+/// one it may not exceed: "BuildConfig.resolution_min = 9 is above BuildConfig.resolution_max
+/// = 8". Both come from build_config_fields.
 void validate(const BuildConfig& config);
 
 }  // namespace sg

@@ -27,6 +27,10 @@ struct ImportReport {
     /// Human-readable warnings (one line each), e.g. a face count implausibly small for the
     /// vertex count, which happens with PLY tristrips that Assimp does not read.
     std::vector<std::string> warnings;
+    /// Every file the importer opened, as it named them: the mesh file and the files it
+    /// refers to (a glTF's .bin buffers, an OBJ's .mtl). The tools refuse to write over any
+    /// of them.
+    std::vector<std::string> opened_files;
 };
 
 /// A mesh read from a file, with the report of what was read.

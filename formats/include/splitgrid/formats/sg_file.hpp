@@ -10,6 +10,8 @@
 
 namespace sg {
 
+class OutputFile;
+
 /// Current .sg format version (docs/FORMAT.md). Readers refuse newer versions.
 inline constexpr std::uint32_t sg_format_version = 2;
 
@@ -50,6 +52,10 @@ struct SgReadOptions {
 /// (the temporary file is removed). Precondition: check_invariants(contents.grid) passes;
 /// it is not re-checked here (the reader checks everything). Memory: one copy of the file.
 void write_sg_file(const std::filesystem::path& path, const SgContents& contents);
+
+/// The same into an output reserved before the work that made `contents` (OutputFile, so
+/// that an unwritable folder is found first), which it commits.
+void write_sg_file(OutputFile& output, const SgContents& contents);
 
 /// Reads and fully checks a .sg file: magic, version, endianness, record sizes, section
 /// table, every count against the file size before allocating, checksums, every index

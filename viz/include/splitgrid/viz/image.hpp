@@ -9,6 +9,8 @@
 
 namespace sg {
 
+class OutputFile;
+
 /// One 8-bit sRGB colour.
 struct Rgb8 {
     std::uint8_t r = 0;
@@ -77,11 +79,15 @@ enum class ImageFormat {
 [[nodiscard]] std::string supported_image_extensions();
 
 /// Writes `image` to `path` with VTK's writer for the extension, atomically: the writer fills
-/// a temporary file in the same folder (".<name>.<random>.tmp"), which is renamed over `path`
-/// only when the writer reports success; on any failure the temporary file is removed and
-/// an existing file at `path` is left as it was.
+/// a temporary file in the same folder (OutputFile: ".<name>.tmp-<pid>-<random>"), which is
+/// renamed over `path` only when the writer reports success; on any failure the temporary
+/// file is removed and an existing file at `path` is left as it was.
 /// Throws ConfigError for an extension no writer handles or an empty image, IoError
 /// "<path>: <reason>" when the folder is missing or the writer or the rename fails.
 void write_image(const std::filesystem::path& path, const RgbImage& image);
+
+/// The same into an output reserved before the render (so that an unwritable folder is found
+/// first), which it commits. The format follows output.target()'s extension.
+void write_image(OutputFile& output, const RgbImage& image);
 
 }  // namespace sg

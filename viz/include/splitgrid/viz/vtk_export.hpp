@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -141,7 +142,7 @@ private:
 /// so <i> counts the blocks that are written.
 ///
 /// The output is atomic: everything is written into a new hidden folder beside `out_dir`
-/// (".<folder name>.sg-export-XXXXXX"), flushed to disk, and renamed to `out_dir` only when
+/// (".<folder name>.sg-export-<pid>-<random>"), flushed to disk, and renamed to `out_dir` only when
 /// complete; on any failure it is removed and `out_dir` is untouched. `out_dir` may be absent
 /// or an empty folder; an existing non-empty folder is replaced only with
 /// ExportOptions::replace_existing and only if it holds an earlier export (then the swap is
@@ -156,5 +157,42 @@ private:
                                        const ExportOptions& options,
                                        const ExportMetadata& metadata,
                                        const std::filesystem::path& out_dir);
+
+namespace detail {
+class StagedFolder;
+}
+
+/// The output folder of an export, reserved before the work: the constructor checks
+/// `out_dir` as export_vtk() does (replace_existing as ExportOptions::replace_existing) and
+/// creates the hidden staging folder beside it at once, so that a folder that cannot be
+/// written is found before a large .sg file is read. It also removes the staging folders of
+/// `out_dir` that killed runs left behind (stale_removed() lists them). Until the export is
+/// committed the staging folder is removed on destruction and on an interrupt. Throws
+/// IoError naming the path.
+class ExportFolder {
+public:
+    ExportFolder(const std::filesystem::path& out_dir, bool replace_existing);
+    ~ExportFolder();
+    ExportFolder(const ExportFolder&) = delete;
+    ExportFolder& operator=(const ExportFolder&) = delete;
+
+    [[nodiscard]] const std::filesystem::path& path() const noexcept { return out_dir_; }
+    [[nodiscard]] bool replace_existing() const noexcept { return replace_existing_; }
+    /// Staging folders of killed runs removed by the constructor.
+    [[nodiscard]] const std::vector<std::filesystem::path>& stale_removed() const noexcept;
+    /// The staging folder (for export_vtk).
+    [[nodiscard]] detail::StagedFolder& staged() noexcept { return *staged_; }
+
+private:
+    std::filesystem::path out_dir_;
+    bool replace_existing_;
+    std::unique_ptr<detail::StagedFolder> staged_;
+};
+
+/// export_vtk() into a folder reserved earlier, which it commits.
+/// ExportOptions::replace_existing must equal the folder's replace_existing() (ConfigError).
+[[nodiscard]] ExportSummary export_vtk(const SplitGrid& grid, const MeshView& mesh,
+                                       const ExportOptions& options,
+                                       const ExportMetadata& metadata, ExportFolder& folder);
 
 }  // namespace sg::viz

@@ -1,0 +1,136 @@
+// Tests of libsplitgrid/src/build_config.cpp and the field table of build_config.hpp: every
+// table entry reaches the member it names, the ranges are the ones the header documents, and
+// validate() refuses exactly the values outside them, naming the field.
+
+#include <cmath>
+#include <limits>
+#include <set>
+#include <string>
+#include <type_traits>
+#include <variant>
+
+#include "splitgrid/build_config.hpp"
+#include "splitgrid/error.hpp"
+
+#include <gtest/gtest.h>
+
+namespace sg {
+namespace {
+
+/// The message of validate()'s refusal of `config`, or "" if it is accepted.
+std::string refusal(const BuildConfig& config)
+{
+    try {
+        validate(config);
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return {};
+}
+
+TEST(BuildConfigFields, EveryEntryReachesTheMemberOfItsName)
+{
+    // The members by name, written out here independently of the table.
+    BuildConfig c;
+    const auto address_of = [&](const std::string& name) -> const void* {
+        if (name == "resolution_min") return &c.resolution_min;
+        if (name == "resolution_max") return &c.resolution_max;
+        if (name == "resolution_sigma") return &c.resolution_sigma;
+        if (name == "leaf_size") return &c.leaf_size;
+        if (name == "max_depth") return &c.max_depth;
+        if (name == "no_progress_fraction") return &c.no_progress_fraction;
+        if (name == "min_cell_width") return &c.min_cell_width;
+        if (name == "stop_by_cost") return &c.stop_by_cost;
+        if (name == "bounding_planes") return &c.bounding_planes;
+        if (name == "clip_triangles") return &c.clip_triangles;
+        if (name == "threads") return &c.threads;
+        return nullptr;
+    };
+    std::set<std::string> names;
+    for (const BuildConfigField& field : build_config_fields) {
+        SCOPED_TRACE(std::string(field.name));
+        names.insert(std::string(field.name));
+        const void* through_table =
+            std::visit([&](auto member) -> const void* { return &(c.*member); }, field.member);
+        EXPECT_EQ(through_table, address_of(std::string(field.name)));
+        EXPECT_EQ(find_build_config_field(field.name), &field);
+        EXPECT_FALSE(field.help.empty());
+    }
+    EXPECT_EQ(names.size(), 11u) << "one entry per member, none twice";
+    EXPECT_EQ(find_build_config_field("no_such_field"), nullptr);
+}
+
+/// A documented range (build_config.hpp's comments), written out here.
+struct DocumentedRange {
+    const char* field;
+    double low;
+    double high;
+    bool low_open;
+};
+
+TEST(BuildConfigFields, RangesAreTheDocumentedOnesAndValidateHoldsToThem)
+{
+    const DocumentedRange ranges[] = {
+        {"resolution_min", 1, 1048576, false},     {"resolution_max", 2, 1048576, false},
+        {"resolution_sigma", 0, 1e9, true},        {"leaf_size", 1, 1048576, false},
+        {"max_depth", 0, 64, false},               {"no_progress_fraction", 0, 1, true},
+        {"min_cell_width", 0, 1e6, false},         {"threads", 0, 1024, false},
+    };
+    for (const DocumentedRange& r : ranges) {
+        SCOPED_TRACE(r.field);
+        const BuildConfigField* field = find_build_config_field(r.field);
+        ASSERT_NE(field, nullptr);
+        EXPECT_EQ(field->low, r.low);
+        EXPECT_EQ(field->high, r.high);
+        EXPECT_EQ(field->low_open, r.low_open);
+
+        const auto with = [&](double value) {
+            BuildConfig c;
+            c.resolution_max = 1048576;  // so that resolution_min's own range is what counts
+            std::visit(
+                [&](auto member) {
+                    c.*member = static_cast<std::remove_reference_t<decltype(c.*member)>>(value);
+                },
+                field->member);
+            return c;
+        };
+        EXPECT_EQ(refusal(with(r.high)), "");
+        EXPECT_NE(refusal(with(r.high + 1)).find(std::string("BuildConfig.") + r.field), std::string::npos);
+        if (r.low_open) {
+            EXPECT_NE(refusal(with(r.low)), "");
+            EXPECT_EQ(refusal(with(r.low + (r.high - r.low) * 1e-6)), "");
+        } else {
+            EXPECT_EQ(refusal(with(r.low)), "");
+            if (r.low > 0) {
+                EXPECT_NE(refusal(with(r.low - 1)), "");
+            }
+        }
+        if (!field->is_count()) {
+            EXPECT_NE(refusal(with(std::numeric_limits<double>::quiet_NaN())).find("finite"),
+                      std::string::npos);
+            EXPECT_NE(refusal(with(std::numeric_limits<double>::infinity())), "");
+        }
+    }
+}
+
+TEST(BuildConfigFields, AFieldAboveItsLimitNamesBoth)
+{
+    BuildConfig c;
+    c.resolution_min = 9;
+    c.resolution_max = 8;
+    EXPECT_EQ(refusal(c), "BuildConfig.resolution_min = 9 is above BuildConfig.resolution_max = 8");
+    c.resolution_min = 8;
+    EXPECT_EQ(refusal(c), "");
+    EXPECT_EQ(refusal(BuildConfig{}), "") << "the defaults are valid";
+}
+
+TEST(BuildConfigFields, SwitchesAreTheThreeBooleans)
+{
+    std::set<std::string> switches;
+    for (const BuildConfigField& field : build_config_fields)
+        if (field.is_switch()) switches.insert(std::string(field.name));
+    EXPECT_EQ(switches, (std::set<std::string>{"stop_by_cost", "bounding_planes", "clip_triangles"}));
+}
+
+}  // namespace
+}  // namespace sg
