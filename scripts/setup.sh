@@ -32,7 +32,7 @@ packages=(
     libassimp-dev assimp-utils assimp-testmodels zlib1g-dev
     libtbb-dev libgtest-dev libboost-dev
     libembree-dev libvtk9-dev
-    python3-matplotlib
+    python3-matplotlib python3-numpy  # charts (sg-bench), the numpy lines of docs/FORMAT.md
     clang-14 libclang-rt-14-dev  # libFuzzer for tests/fuzz (scripts/test.sh)
 )
 if [[ "${with_paraview}" == true ]]; then
