@@ -84,7 +84,8 @@ void create_logger()
 }
 
 /// CLI11's refusal of a flag given twice ("--leaf-size: At Most 1 required but received 2")
-/// said in the tools' words, or nothing if no option was given too often.
+/// said in the tools' words, or nothing if no option was given too often. Looks into the
+/// subcommands too (sg-rays' modes have flags of their own).
 std::optional<std::string> repeated_flag_message(const CLI::App& app)
 {
     for (const CLI::Option* option : app.get_options()) {
@@ -92,6 +93,9 @@ std::optional<std::string> repeated_flag_message(const CLI::App& app)
         if (most < 1 || option->results().size() <= static_cast<std::size_t>(most)) continue;
         return fmt::format("{} is given {} times ({}); give it once", option->get_name(),
                            option->results().size(), fmt::join(option->results(), ", "));
+    }
+    for (const CLI::App* subcommand : app.get_subcommands({})) {
+        if (auto message = repeated_flag_message(*subcommand)) return message;
     }
     return std::nullopt;
 }

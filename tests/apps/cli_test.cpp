@@ -448,6 +448,15 @@ TEST(ToolsConvention, AFlagGivenTwiceIsReportedInOurWords)
     EXPECT_EQ(trace.exit_code, 1) << describe(trace);
     EXPECT_NE(trace.err.find("--output is given 2 times (h.bin, h2.bin)"), std::string::npos)
         << trace.err;
+    // A flag of a subcommand (sg-rays' modes) is reported the same way.
+    const ToolRun rays = run_tool(SG_RAYS_EXE, {"random", "a.sg", "-o", "r.bin", "--count", "3",
+                                                "--count", "4"},
+                                  scratch);
+    EXPECT_EQ(rays.exit_code, 1) << describe(rays);
+    EXPECT_NE(rays.err.find("--count is given 2 times (3, 4); give it once"), std::string::npos)
+        << rays.err;
+    EXPECT_EQ(rays.err.find("At Most"), std::string::npos) << rays.err;
+    EXPECT_FALSE(fs::exists(scratch / "r.bin"));
 }
 
 TEST(ToolsConvention, BuildConfigJsonKeysAreTheFieldTable)
