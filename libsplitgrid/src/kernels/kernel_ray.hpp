@@ -15,8 +15,8 @@ namespace sg::kernels::SG_KERNEL_ISA {
 /// box's largest coordinate magnitude. A crossing computed as (p - o) * (1 / d), or as
 /// t(p0) + k * t(w) for the k-th boundary of a grid whose width w was rounded, differs from
 /// the exact (p - o) / d by a few roundings of quantities no larger than (M + |o|) / |d|:
-/// below 16 * 2^-24 * (M + |o|) / |d| (docs/SPLIT_GRID.md derives the bound). Widening every
-/// entry down and every exit up by four times that, 2^-18 * (M + |o|) / |d|, makes the visited
+/// below 23 * 2^-24 * (M + |o|) / |d| (docs/SPLIT_GRID.md derives the bound). Widening every
+/// entry down and every exit up by 2^-18 * (M + |o|) / |d| (2.8 times that) makes the visited
 /// cells and boxes a superset of those the exact ray crosses, whatever the ray's distance to
 /// the plane, at the cost of one add per crossing (no multiply, no sign test).
 inline constexpr float crossing_pad_unit = 0x1p-18f;
