@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The documented full run of sg-bench (docs/BENCH.md): every mesh of ../shared/meshes (but
-# tricky/, which Assimp misreads), arena scenes of 2.5 and 10 million triangles made from the
-# Stanford dragon, and the memory series from 10^3 to 10^7 triangles; then the charts and
-# docs/RESULTS.md with its images in docs/images/bench_*.png.
+# tricky/, which Assimp misreads), the CAD model 2CylinderEngine.glb of assimp-testmodels,
+# arena scenes of 2.5 and 10 million triangles made from the Stanford dragon, and the memory
+# series from 10^3 to 10^7 triangles; then the charts and docs/RESULTS.md with its images in
+# docs/images/bench_*.png, and the run's results.json as docs/results.json (the "before" of
+# the next run).
 #
 # Usage: scripts/bench.sh [--quick] [more sg-bench flags]
 #   SG_BENCH_OUT   output folder (default build/bench-full, or build/bench-quick with --quick)
@@ -44,6 +46,9 @@ scenes=(
     gltf/balloon/scene.gltf
     gltf/smallpine/scene.gltf
 )
+# The CAD model: Assimp's 2CylinderEngine from Debian's assimp-testmodels (scripts/setup.sh
+# installs it), the scene where the Split Grid reaches its depth limit.
+cad_model=/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb
 args=()
 if [[ "${quick}" == true ]]; then
     out="${SG_BENCH_OUT:-${root_dir}/build/bench-quick}"
@@ -55,6 +60,7 @@ else
 fi
 paths=()
 for s in "${scenes[@]}"; do paths+=("${meshes}/${s}"); done
+if [[ "${quick}" != true ]]; then paths+=("${cad_model}"); fi
 
 # The sweep runs on the first scene; the scale series and the arenas use the dragon.
 "${root_dir}/build/apps/sg-bench" -o "${out}" \
@@ -73,5 +79,12 @@ else
     /usr/bin/python3 "${root_dir}/scripts/bench_report.py" "${out}/results.json" "${out}" \
         "images/bench_" > "${root_dir}/docs/RESULTS.md.tmp"
     mv "${root_dir}/docs/RESULTS.md.tmp" "${root_dir}/docs/RESULTS.md"
+    # The same JSON with the scene files named relative to the meshes folder, as the report
+    # names them: no machine's absolute path in docs/.
+    /usr/bin/python3 - "${out}/results.json" "${meshes}/" > "${root_dir}/docs/results.json" <<'EOF'
+import json, sys
+text = open(sys.argv[1]).read().replace(json.dumps(sys.argv[2])[1:-1], "")
+json.dump(json.loads(text), sys.stdout, indent=1)
+EOF
     echo "bench.sh: report in docs/RESULTS.md, charts in docs/images/bench_*.png"
 fi

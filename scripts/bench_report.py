@@ -61,9 +61,15 @@ def human(n):
 ARENA_SOURCE = " arranged to "
 
 
+# Where Debian's assimp-testmodels package puts its models (the CAD model of scripts/bench.sh).
+ASSIMP_MODELS = "/usr/share/assimp/models/"
+
+
 def scene_files(scenes):
-    """The mesh file of every scene: its source, or for an arena the model it copies."""
-    return [s["source"].split(ARENA_SOURCE)[0] for s in scenes]
+    """The mesh file of every scene (its source, or for an arena the model it copies), but
+    those of Debian's assimp-testmodels, which the report names by the package."""
+    files = [s["source"].split(ARENA_SOURCE)[0] for s in scenes]
+    return [f for f in files if not f.startswith(ASSIMP_MODELS)]
 
 
 def common_folder(paths):
@@ -77,6 +83,8 @@ def common_folder(paths):
 def shown_path(path, root):
     """`path` relative to `root`, so that a report carries no machine's absolute paths; a
     path outside `root` is reduced to its file name."""
+    if path.startswith(ASSIMP_MODELS):
+        return "assimp-testmodels: " + path[len(ASSIMP_MODELS):]
     if root is not None:
         relative = os.path.relpath(path, root)
         if not relative.startswith(".."):
@@ -94,6 +102,102 @@ def shown_source(source, root):
 def share(flags):
     """'n of m' for a list of booleans."""
     return "%d of %d" % (sum(1 for f in flags if f), len(flags))
+
+
+# The targets of the issue "Trace fast": (label, figure, the figure before it, this issue's
+# goal, the goal beyond it). "Before" is the 2-thread column of the full run that preceded the
+# issue (17 scenes, format version 2, before welding and the shared kernels).
+TRACE_TARGETS = [
+    ("Split Grid / our BVH, primary / path / incoherent", "sg_bvh", "0.47 / 0.52 / 0.48",
+     ">= 1.0", ">= 1.3"),
+    ("Split Grid / Embree, primary", "sg_emb_primary", "0.22", ">= 0.6", ">= 1.0"),
+    ("Split Grid / Embree, path / incoherent", "sg_emb_path_incoherent", "0.18 / 0.12",
+     ">= 0.45 / 0.40", ">= 0.8"),
+    ("Split Grid / Embree, shadow (any hit)", "sg_emb_shadow", "0.12", ">= 0.40", ">= 0.8"),
+    ("our BVH / Embree, median of primary, path and incoherent", "bvh_emb", "0.32", ">= 0.6",
+     ">= 0.8"),
+    ("Split Grid triangles tested per path ray / BVH's", "tests", "3.7", "<= 2", "<= 1.2"),
+    ("Split Grid structure + mesh bytes / BVH's", "bytes", "0.90", "<= 1.0",
+     "the lowest of all"),
+    ("Split Grid build time / BVH's, against the same ratio before (1.56)", "build", "1.0",
+     "<= 1.5", ""),
+]
+BUILD_RATIO_BEFORE = 1 / 0.64  # Split Grid build time / BVH's, 2 threads, before the issue
+
+
+def targets(w, scenes, threads, median):
+    """The targets table of "Trace fast", medians over the scenes, for each thread count."""
+    w("## Targets of \"Trace fast\"\n")
+    w("Medians over the scenes of per-scene ratios measured in this run. Speed ratios are "
+      "Mrays/s over Mrays/s (above 1: the Split Grid is faster), tests per path ray over the "
+      "workload, bytes are structure + mesh (everything tracing needs). The build figure is the "
+      "Split Grid's build time over the BVH's, divided by that ratio in the run before the "
+      "issue, so that it compares builds within one run.\n")
+
+    def per_scene(scene, t):
+        sg, bvh, emb = (structure(scene, n) for n in ("splitgrid", "bvh", "embree"))
+        if not (sg and bvh and emb):
+            return None
+        x = {}
+        for n in ("primary", "path", "incoherent", "shadow"):
+            x["sg_bvh_" + n] = ratio(rate(sg, n, t), rate(bvh, n, t))
+            x["sg_emb_" + n] = ratio(rate(sg, n, t), rate(emb, n, t))
+            x["bvh_emb_" + n] = ratio(rate(bvh, n, t), rate(emb, n, t))
+        ws, wb = workload(sg, "path"), workload(bvh, "path")
+        x["tests"] = ratio(ws["triangles_per_ray"], wb["triangles_per_ray"]) \
+            if ws and wb and ws["counted"] and wb["counted"] else float("nan")
+        x["bytes"] = ratio(sg["total_bytes_per_triangle"], bvh["total_bytes_per_triangle"])
+        x["build"] = ratio(sg["build_seconds"][t], bvh["build_seconds"][t]) / BUILD_RATIO_BEFORE
+        return x
+
+    columns = []
+    for t in threads:
+        rows = [x for x in (per_scene(s, t) for s in scenes) if x]
+        med = {k: median([x[k] for x in rows if x[k] == x[k]]) for k in rows[0]} if rows else {}
+        columns.append((t, med, len(rows)))
+    if not columns or not columns[0][1]:
+        w("No scene has the Split Grid, the BVH and Embree.\n")
+        return
+
+    def shown(key, med):
+        if key == "sg_bvh":
+            return " / ".join(fmt(med["sg_bvh_" + n]) for n in ("primary", "path", "incoherent"))
+        if key == "sg_emb_primary":
+            return fmt(med["sg_emb_primary"])
+        if key == "sg_emb_path_incoherent":
+            return "%s / %s" % (fmt(med["sg_emb_path"]), fmt(med["sg_emb_incoherent"]))
+        if key == "sg_emb_shadow":
+            return fmt(med["sg_emb_shadow"])
+        if key == "bvh_emb":
+            return fmt(median([med["bvh_emb_" + n] for n in ("primary", "path", "incoherent")]))
+        return fmt(med[key])
+
+    head = ["ratio", "before"] + ["now, %s thread%s" % (t, "" if t == "1" else "s")
+                                  for t, _, _ in columns] + ["this issue", "beyond"]
+    w("| " + " | ".join(head) + " |")
+    w("|" + "---|" * len(head))
+    for name, key, before, goal, beyond in TRACE_TARGETS:
+        w("| %s | %s | %s | **%s** | %s |" % (name, before, " | ".join(
+            shown(key, med) for _, med, _ in columns), goal, beyond))
+    w("")
+    w("Scenes counted: %s.\n" % ", ".join("%d at %s thread%s" % (n, t, "" if t == "1" else "s")
+                                          for t, _, n in columns))
+
+    w("Per scene, %s thread%s (Split Grid over Embree, and over our BVH):\n"
+      % (threads[-1], "" if threads[-1] == "1" else "s"))
+    t = threads[-1]
+    head = ["scene", "primary", "path", "incoherent", "shadow", "primary vs BVH",
+            "path vs BVH", "incoherent vs BVH", "tests vs BVH", "bytes vs BVH"]
+    w("| " + " | ".join(head) + " |")
+    w("|" + "---|" * len(head))
+    for scene in scenes:
+        x = per_scene(scene, t)
+        if not x:
+            continue
+        w("| %s | %s |" % (scene["scene"], " | ".join(fmt(x[k]) for k in (
+            "sg_emb_primary", "sg_emb_path", "sg_emb_incoherent", "sg_emb_shadow",
+            "sg_bvh_primary", "sg_bvh_path", "sg_bvh_incoherent", "tests", "bytes"))))
+    w("")
 
 
 def main(argv):
@@ -117,9 +221,9 @@ def main(argv):
       "(`scripts/bench.sh`; what is measured and how: [BENCH.md](BENCH.md)). Do not edit by "
       "hand: run the script again. Scene files are named relative to the folder that holds "
       "them all (`../shared/meshes` for `scripts/bench.sh`).\n")
-    w("- machine: %s, %d hardware threads; %s" % (r["machine"]["cpu"],
-                                                 r["machine"]["hardware_threads"],
-                                                 r["machine"]["compiler"]))
+    w("- machine: %s, %d hardware threads; %s; our kernels on %s" % (
+        r["machine"]["cpu"], r["machine"]["hardware_threads"], r["machine"]["compiler"],
+        r["machine"].get("kernel_isa", "sse2")))
     w("- splitgrid %s, Embree %s" % (r["splitgrid_version"], r["embree_version"] or "not built"))
     w("- run time %.0f s%s; thread counts %s; %d builds and %d passes per figure (median)"
       % (r["run_seconds"], " (quick mode: small workloads, not for conclusions)"
@@ -168,7 +272,8 @@ def main(argv):
 
     # --- Work per ray -------------------------------------------------------------------
     w("## Work per ray\n")
-    w("Mean traversal work per ray on the brute-force sample of the path workload "
+    w("Mean traversal work per ray over the path workload (every ray, or an even stride of "
+      "131,072 of them) "
       "(`TraversalCounters`: for the Split Grid nodes entered, cells stepped, triangles "
       "tested; for the BVH inner nodes and leaves; for the kd-tree nodes and leaves; for the "
       "uniform grid cells). This is what the timings come from.\n")
@@ -252,45 +357,9 @@ def main(argv):
       "Grid time: median %.2f |" % (tn, share(two_thirds), median(bvh_ratios)))
     w("")
 
-    # --- Targets against Embree ----------------------------------------------------------
+    # --- Targets ("Trace fast") -----------------------------------------------------------
     if have_embree:
-        w("## Targets against Embree and our BVH\n")
-        w("Ratios of the Split Grid to Embree (and to our BVH) in the same run, per scene; the "
-          "goal is on the right.\n")
-        head = ["scene", "build %st" % tn, "primary 1t", "path 1t", "incoherent 1t",
-                "primary vs BVH", "path vs BVH", "memory"]
-        w("| " + " | ".join(head) + " |")
-        w("|" + "---|" * len(head))
-        rows = []
-        for scene in sg_scenes:
-            sg, emb, bvh = (structure(scene, n) for n in ("splitgrid", "embree", "bvh"))
-            if not emb:
-                continue
-            row = {
-                "build": ratio(emb["build_seconds"][tn], sg["build_seconds"][tn]),
-                "primary": ratio(rate(sg, "primary", t1), rate(emb, "primary", t1)),
-                "path": ratio(rate(sg, "path", t1), rate(emb, "path", t1)),
-                "incoherent": ratio(rate(sg, "incoherent", t1), rate(emb, "incoherent", t1)),
-                "primary_bvh": ratio(rate(sg, "primary", t1), rate(bvh, "primary", t1))
-                if bvh else float("nan"),
-                "path_bvh": ratio(rate(sg, "path", t1), rate(bvh, "path", t1))
-                if bvh else float("nan"),
-                "memory": ratio(sg["total_bytes_per_triangle"], emb["total_bytes_per_triangle"]),
-            }
-            rows.append(row)
-            w("| %s | %s |" % (scene["scene"], " | ".join(
-                fmt(row[k]) for k in ("build", "primary", "path", "incoherent", "primary_bvh",
-                                      "path_bvh", "memory"))))
-        if rows:
-            med = {k: median([x[k] for x in rows]) for k in rows[0]}
-            w("| **median** | %s |" % " | ".join(
-                "**%s**" % fmt(med[k]) for k in ("build", "primary", "path", "incoherent",
-                                                 "primary_bvh", "path_bvh", "memory")))
-            w("| goal | >= 1.0 | >= 1.0 | >= 0.8 | >= 0.8 | >= 1.0 | >= 1.0 | <= 0.5 |")
-        w("")
-        w("Build: Embree's build time over the Split Grid's (above 1: the Split Grid builds "
-          "faster). Speed: Split Grid Mrays/s over Embree's (or the BVH's). Memory: Split "
-          "Grid bytes per triangle (structure + mesh) over Embree's.\n")
+        targets(w, sg_scenes, threads, median)
 
     # --- Correctness --------------------------------------------------------------------
     w("## Correctness\n")

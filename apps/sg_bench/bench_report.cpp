@@ -44,7 +44,8 @@ Json results_json(const BenchResults& results, const BenchPlan& plan, const RunI
     j["embree_version"] = embree_version();
     j["machine"] = {{"cpu", info.machine},
                     {"hardware_threads", info.hardware_threads},
-                    {"compiler", info.compiler}};
+                    {"compiler", info.compiler},
+                    {"kernel_isa", info.kernel_isa}};
     j["run_seconds"] = info.seconds;
     j["plan"] = {{"quick", info.quick},
                  {"structures", plan.structures},

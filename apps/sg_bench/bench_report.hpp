@@ -15,6 +15,7 @@ struct RunInfo {
     std::string machine;   ///< CPU model, as /proc/cpuinfo names it
     unsigned hardware_threads = 0;
     std::string compiler;
+    std::string kernel_isa;  ///< instruction set of our structures' kernels (query.hpp)
     double seconds = 0.0;  ///< wall time of the whole run
 };
 

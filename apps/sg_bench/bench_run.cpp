@@ -132,12 +132,17 @@ std::size_t oracle_disagreements(const OracleSample& o, const Answers& a, bool a
     return n;
 }
 
-// Mean traversal work per ray on the oracle sample (the same rays for every structure).
-void count_work(const BenchStructure& s, const Workload& w, const OracleSample& o,
-                WorkloadResult& wr)
+// Mean traversal work per ray over the workload: every ray, or an even stride of at most
+// work_sample_rays of them (the same rays for every structure). Not the oracle sample, which
+// holds a few dozen rays on the largest scenes.
+constexpr std::size_t work_sample_rays = std::size_t{1} << 17;
+
+void count_work(const BenchStructure& s, const Workload& w, WorkloadResult& wr)
 {
+    const std::size_t stride = (w.rays.size() + work_sample_rays - 1) / work_sample_rays;
     std::vector<Ray> sample;
-    for (std::size_t i : o.indices) sample.push_back(w.rays[i]);
+    for (std::size_t i = 0; i < w.rays.size(); i += std::max<std::size_t>(stride, 1))
+        sample.push_back(w.rays[i]);
     std::uint64_t nodes = 0, cells = 0, triangles = 0;
     // Counters are 32-bit per query: summed per chunk into 64-bit totals.
     for (std::size_t k = 0; k < sample.size(); k += 256) {
@@ -235,7 +240,7 @@ public:
                 }
                 wr.hit_fraction = hit_fraction(answers, w.any_hit);
                 wr.oracle_rays = oracles[wi].indices.size();
-                count_work(*built, w, oracles[wi], wr);
+                count_work(*built, w, wr);
                 wr.oracle_disagreements = oracle_disagreements(oracles[wi], answers, w.any_hit, exact);
                 if (name == plan_.structures.front()) reference_answers[wi] = std::move(answers);
                 else

@@ -30,6 +30,7 @@
 #include "splitgrid/formats/output_file.hpp"
 #include "splitgrid/formats/temporary_paths.hpp"
 #include "splitgrid/formats/text_file.hpp"
+#include "splitgrid/query.hpp"
 
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
@@ -374,6 +375,7 @@ void bench(CLI::App& app, Options& o)
     info.machine = cpu_model();
     info.hardware_threads = sg::apps::threads_that_run(0);
     info.compiler = "g++ " __VERSION__;
+    info.kernel_isa = std::string(sg::isa_name(sg::kernel_isa()));
     info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     sg::write_text_file(*json_output, sg::bench::results_json(results, plan, info).dump(2) + "\n");
