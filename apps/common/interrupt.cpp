@@ -31,10 +31,16 @@ sigset_t interrupt_signals()
     return set;
 }
 
+// Set by the interrupt thread once it has started (its thread-local storage and the
+// sanitizers' per-thread state allocated) and is about to wait; see InterruptHandling().
+std::atomic<bool> interrupt_thread_ready{false};
+
 void wait_for_interrupt()
 {
     const sigset_t set = interrupt_signals();
     int signal_number = 0;
+    interrupt_thread_ready.store(true);
+    interrupt_thread_ready.notify_all();
     while (sigwait(&set, &signal_number) != 0) {
     }
     int expected = running;
@@ -53,6 +59,11 @@ InterruptHandling::InterruptHandling()
     if (const int error = pthread_sigmask(SIG_BLOCK, &set, nullptr); error != 0)
         throw std::system_error(error, std::generic_category(), "pthread_sigmask");
     std::thread(wait_for_interrupt).detach();
+    // The mesh import forks a child (formats/src/import_child.cpp). A thread that is still
+    // starting may hold an allocator lock at that moment, which the child then inherits locked
+    // forever (seen with AddressSanitizer's allocator, whose fork handling in GCC 12 does not
+    // take its locks): so the tool goes on only once the thread is up and only waits.
+    interrupt_thread_ready.wait(false);
 }
 
 void InterruptHandling::finish()
