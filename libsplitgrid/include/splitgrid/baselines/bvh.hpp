@@ -38,8 +38,12 @@ struct BvhConfig {
     /// not pay; larger nodes are always split (at the object median when their centroids
     /// coincide). Range [leaf_size, 2^20].
     std::uint32_t max_leaf_size = 8;
-    /// Cost of visiting a node, in ray/triangle tests. Range (0, 1e6].
-    double traversal_cost = 1.0;
+    /// Cost of visiting a node, in ray/triangle tests. Range (0, 1e6]. 4 because the
+    /// kernels test a leaf's triangles eight at a time, so a triangle of a leaf costs far
+    /// less than a node visit: against 1, it took the BVH from 0.39 to 0.46 of Embree's path
+    /// speed (median of seven scenes) and from 54.7 to 33.8 bytes per triangle; 8 did no
+    /// better (docs/BENCH.md).
+    double traversal_cost = 4.0;
     /// Deepest leaf (root = 0); nodes at this depth become leaves whatever their size.
     /// Range [1, 64]; also bounds the traversal stack.
     std::uint32_t max_depth = bvh_max_supported_depth;
