@@ -139,10 +139,10 @@ constexpr std::size_t work_sample_rays = std::size_t{1} << 17;
 
 void count_work(const BenchStructure& s, const Workload& w, WorkloadResult& wr)
 {
-    const std::size_t stride = (w.rays.size() + work_sample_rays - 1) / work_sample_rays;
+    const std::size_t stride =
+        std::max<std::size_t>(1, (w.rays.size() + work_sample_rays - 1) / work_sample_rays);
     std::vector<Ray> sample;
-    for (std::size_t i = 0; i < w.rays.size(); i += std::max<std::size_t>(stride, 1))
-        sample.push_back(w.rays[i]);
+    for (std::size_t i = 0; i < w.rays.size(); i += stride) sample.push_back(w.rays[i]);
     std::uint64_t nodes = 0, cells = 0, triangles = 0;
     // Counters are 32-bit per query: summed per chunk into 64-bit totals.
     for (std::size_t k = 0; k < sample.size(); k += 256) {
