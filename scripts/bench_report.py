@@ -99,6 +99,11 @@ def shown_source(source, root):
     return shown_path(head, root) + sep + tail
 
 
+def thread_count(t):
+    """'1 thread', '2 threads' for a thread count given as a string."""
+    return "%s thread%s" % (t, "" if t == "1" else "s")
+
+
 def share(flags):
     """'n of m' for a list of booleans."""
     return "%d of %d" % (sum(1 for f in flags if f), len(flags))
@@ -174,19 +179,17 @@ def targets(w, scenes, threads, median):
             return fmt(median([med["bvh_emb_" + n] for n in ("primary", "path", "incoherent")]))
         return fmt(med[key])
 
-    head = ["ratio", "before"] + ["now, %s thread%s" % (t, "" if t == "1" else "s")
-                                  for t, _, _ in columns] + ["this issue", "beyond"]
+    head = ["ratio", "before"] + ["now, " + thread_count(t) for t, _, _ in columns] + ["this issue", "beyond"]
     w("| " + " | ".join(head) + " |")
     w("|" + "---|" * len(head))
     for name, key, before, goal, beyond in TRACE_TARGETS:
         w("| %s | %s | %s | **%s** | %s |" % (name, before, " | ".join(
             shown(key, med) for _, med, _ in columns), goal, beyond))
     w("")
-    w("Scenes counted: %s.\n" % ", ".join("%d at %s thread%s" % (n, t, "" if t == "1" else "s")
+    w("Scenes counted: %s.\n" % ", ".join("%d at %s" % (n, thread_count(t))
                                           for t, _, n in columns))
 
-    w("Per scene, %s thread%s (Split Grid over Embree, and over our BVH):\n"
-      % (threads[-1], "" if threads[-1] == "1" else "s"))
+    w("Per scene, %s (Split Grid over Embree, and over our BVH):\n" % thread_count(threads[-1]))
     t = threads[-1]
     head = ["scene", "primary", "path", "incoherent", "shadow", "primary vs BVH",
             "path vs BVH", "incoherent vs BVH", "tests vs BVH", "bytes vs BVH"]
@@ -243,9 +246,9 @@ def main(argv):
     # --- Per scene ---------------------------------------------------------------------
     w("## Every scene\n")
     w("Build in seconds, memory as structure + mesh bytes per triangle, speed in Mrays/s on "
-      "%s thread%s (the ratio to Embree in brackets), and disagreements with brute force "
+      "%s (the ratio to Embree in brackets), and disagreements with brute force "
       "(sample) and with the Split Grid (all rays); Embree's hits agree within 1e-4 in t.\n"
-      % (tn, "" if tn == "1" else "s"))
+      % thread_count(tn))
     names = [s["structure"] for s in scenes[0]["structures"]] if scenes else []
     wl_names = [x["name"] for x in scenes[0]["workloads"]] if scenes else []
     for scene in scenes:
