@@ -342,6 +342,7 @@ public:
         for (double v : {0.0, 0.5, 2.0})
             vary("min_cell_width", fixed(v, 1), [&](BuildConfig& c) { c.min_cell_width = v; });
         vary("bounding_planes", "off", [](BuildConfig& c) { c.bounding_planes = false; });
+        vary("bounding_nodes", "off", [](BuildConfig& c) { c.bounding_nodes = false; });
         vary("clip_triangles", "off", [](BuildConfig& c) { c.clip_triangles = false; });
 
         std::vector<SweepResult> out;

@@ -48,6 +48,13 @@ void store_field(const BuildConfig& config, const BuildConfigField& field,
         std::memcpy(at, &word, sizeof word);
         break;
     }
+    case detail::SgConfSlotKind::set_bit: {
+        std::uint32_t word = 0;
+        std::memcpy(&word, at, sizeof word);
+        if (config.*std::get<BuildConfigField::SwitchMember>(field.member)) word |= slot.bit;
+        std::memcpy(at, &word, sizeof word);
+        break;
+    }
     }
 }
 

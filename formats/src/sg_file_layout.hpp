@@ -121,8 +121,10 @@ static_assert(sizeof(SgSectionEntry) == 32 && std::is_trivially_copyable_v<SgSec
 ///       76     4  uint32   root cell         (the CellRef word, see grid_node.hpp)
 ///       80     4  uint32   reserved, 0
 ///       84     4  uint32   build_flags: bit 0 set = bounding_planes off, bit 1 set =
-///                          clip_triangles off; other bits 0 (0 = both on, the defaults, so
-///                          files written before these options existed read unchanged)
+///                          clip_triangles off (0 = both on, the defaults, so files written
+///                          before these options existed read unchanged), bit 2 set =
+///                          bounding_nodes on (files written before it existed were built
+///                          without them, and read so); other bits 0
 struct SgConfigRecord {
     std::uint32_t resolution_min;
     std::uint32_t resolution_max;
@@ -144,8 +146,9 @@ struct SgConfigRecord {
 /// Bits of SgConfigRecord::build_flags.
 inline constexpr std::uint32_t sg_flag_no_bounding_planes = 1u << 0;
 inline constexpr std::uint32_t sg_flag_no_clip_triangles = 1u << 1;
+inline constexpr std::uint32_t sg_flag_bounding_nodes = 1u << 2;
 inline constexpr std::uint32_t sg_known_build_flags =
-    sg_flag_no_bounding_planes | sg_flag_no_clip_triangles;
+    sg_flag_no_bounding_planes | sg_flag_no_clip_triangles | sg_flag_bounding_nodes;
 
 /// How a BuildConfig field is stored in SgConfigRecord.
 enum class SgConfSlotKind {
@@ -153,6 +156,7 @@ enum class SgConfSlotKind {
     f64,          ///< a real as a float64
     boolean_u32,  ///< a switch as a uint32: 0 false, 1 true, anything else is refused
     cleared_bit,  ///< a switch as one bit of a uint32 flags word: set means false
+    set_bit,      ///< a switch as one bit of a uint32 flags word: set means true
 };
 
 /// Where one BuildConfig field (named as in build_config_fields) lives in the CONF record.
@@ -160,13 +164,13 @@ struct SgConfSlot {
     std::string_view field;
     std::size_t offset;
     SgConfSlotKind kind;
-    std::uint32_t bit = 0;  ///< for cleared_bit
+    std::uint32_t bit = 0;  ///< for cleared_bit and set_bit
 };
 
 /// The CONF slot of every BuildConfig field: the file reader and writer iterate
 /// build_config_fields and look each field up here. The layout above is the file format and
 /// does not follow the table's order.
-inline constexpr std::array<SgConfSlot, 11> sg_conf_slots{{
+inline constexpr std::array<SgConfSlot, 12> sg_conf_slots{{
     {"resolution_min", offsetof(SgConfigRecord, resolution_min), SgConfSlotKind::u32},
     {"resolution_max", offsetof(SgConfigRecord, resolution_max), SgConfSlotKind::u32},
     {"resolution_sigma", offsetof(SgConfigRecord, resolution_sigma), SgConfSlotKind::f64},
@@ -180,6 +184,8 @@ inline constexpr std::array<SgConfSlot, 11> sg_conf_slots{{
      sg_flag_no_bounding_planes},
     {"clip_triangles", offsetof(SgConfigRecord, build_flags), SgConfSlotKind::cleared_bit,
      sg_flag_no_clip_triangles},
+    {"bounding_nodes", offsetof(SgConfigRecord, build_flags), SgConfSlotKind::set_bit,
+     sg_flag_bounding_nodes},
     {"threads", offsetof(SgConfigRecord, threads), SgConfSlotKind::u32},
 }};
 

@@ -345,6 +345,10 @@ void SgReader::load_field(const detail::SgConfigRecord& record, std::uint64_t co
         std::memcpy(&word, at, sizeof word);
         config.*std::get<BuildConfigField::SwitchMember>(field.member) = (word & slot.bit) == 0;
         return;
+    case detail::SgConfSlotKind::set_bit:
+        std::memcpy(&word, at, sizeof word);
+        config.*std::get<BuildConfigField::SwitchMember>(field.member) = (word & slot.bit) != 0;
+        return;
     }
 }
 
@@ -363,7 +367,7 @@ SgContents SgReader::decode(const SgReadOptions& options) const
                 std::to_string(config.reserved));
     if ((config.build_flags & ~detail::sg_known_build_flags) != 0)
         fail_at("CONF build_flags has unknown bits set",
-                conf_at + offsetof(detail::SgConfigRecord, build_flags), "bits 0-1 only",
+                conf_at + offsetof(detail::SgConfigRecord, build_flags), "bits 0-2 only",
                 hex32(config.build_flags));
     try {
         validate(contents.grid.config);

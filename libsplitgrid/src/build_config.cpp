@@ -55,7 +55,7 @@ void validate(const BuildConfig& config)
     // to build_config_fields, which everything else iterates.
     [[maybe_unused]] const auto& [resolution_min, resolution_max, resolution_sigma, leaf_size,
                                   max_depth, no_progress_fraction, min_cell_width, stop_by_cost,
-                                  bounding_planes, clip_triangles, threads] = config;
+                                  bounding_planes, bounding_nodes, clip_triangles, threads] = config;
 
     for (const BuildConfigField& field : build_config_fields) check_field_range(config, field);
     for (const BuildConfigField& field : build_config_fields) {

@@ -476,7 +476,7 @@ TEST(ToolsConvention, BuildConfigJsonKeysAreTheFieldTable)
     const std::vector<std::string> fields = {
         "resolution_min", "resolution_max", "resolution_sigma", "leaf_size",
         "max_depth", "no_progress_fraction", "min_cell_width", "stop_by_cost",
-        "bounding_planes", "clip_triangles", "threads"};
+        "bounding_planes", "bounding_nodes", "clip_triangles", "threads"};
     for (const std::string& output : {build.out, stats.out}) {
         const nlohmann::ordered_json config = nlohmann::ordered_json::parse(output).at("build_config");
         std::vector<std::string> keys;

@@ -142,7 +142,8 @@ TEST(SgBuild, BuildFlagsReachTheFile)
                                   "--leaf-size", "2", "--max-depth", "5",
                                   "--no-progress-fraction", "0.75", "--min-cell-width", "0.5",
                                   "--no-stop-by-cost", "--no-bounding-planes",
-                                  "--no-clip-triangles", "--threads", "2", "-q"},
+                                  "--no-bounding-nodes", "--no-clip-triangles", "--threads", "2",
+                                  "-q"},
                                  scratch);
     ASSERT_EQ(run.exit_code, 0) << describe(run);
     EXPECT_EQ(run.err, "") << "nothing to warn about, and -q hides the rest";
@@ -157,6 +158,7 @@ TEST(SgBuild, BuildFlagsReachTheFile)
     expected.min_cell_width = 0.5;
     expected.stop_by_cost = false;
     expected.bounding_planes = false;
+    expected.bounding_nodes = false;
     expected.clip_triangles = false;
     expected.threads = 0;  // not kept: the result does not depend on it
     EXPECT_EQ(contents.grid.config, expected);
@@ -169,7 +171,8 @@ TEST(SgBuild, BuildFlagsReachTheFile)
         if (node.resolution() > 16u) ++above_max;
     EXPECT_EQ(above_max, 0u);
 
-    // Without the cap, every resolution lies in [--resolution-min, --resolution-max].
+    // Without the cap, every resolution lies in [--resolution-min, --resolution-max], but for
+    // the one-cell bounding nodes.
     const fs::path uncapped = scratch / "uncapped.sg";
     ASSERT_EQ(run_tool(SG_BUILD_EXE,
                        {model.string(), "-o", uncapped.string(), "--resolution-min", "3",
@@ -179,7 +182,7 @@ TEST(SgBuild, BuildFlagsReachTheFile)
               0);
     std::size_t outside = 0;
     for (const GridNode& node : read_sg_file(uncapped).grid.nodes)
-        if (node.resolution() < 3u || node.resolution() > 16u) ++outside;
+        if (node.resolution() != 1u && (node.resolution() < 3u || node.resolution() > 16u)) ++outside;
     EXPECT_EQ(outside, 0u);
 }
 

@@ -32,6 +32,7 @@ SgContents unusual_contents(bool switches)
     config.min_cell_width = 0.5;
     config.stop_by_cost = switches;
     config.bounding_planes = switches;
+    config.bounding_nodes = switches;
     config.clip_triangles = switches;
     c.grid = build_split_grid(c.mesh.view(), config);
     c.grid.config.threads = 7;  // the builder keeps 0; the file stores whatever it is given
@@ -63,8 +64,9 @@ TEST(SgFileConf, FieldsLieAtTheDocumentedOffsets)
         EXPECT_EQ(test::load_le<float>(bytes, at + 72), c.grid.root_box.upper.z);
         EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 76), c.grid.root.raw_bits());
         EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 80), 0u) << "reserved";
-        // build_flags: bit 0 set = bounding planes off, bit 1 set = clipping off.
-        EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 84), switches ? 0u : 3u);
+        // build_flags: bit 0 set = bounding planes off, bit 1 set = clipping off, bit 2 set =
+        // bounding nodes on.
+        EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 84), switches ? 4u : 3u);
 
         const SgContents back = read_sg_bytes(bytes, "conf.sg");
         EXPECT_EQ(back.grid.config, c.grid.config);
@@ -78,14 +80,38 @@ TEST(SgFileConf, EachSwitchHasItsOwnBit)
     c.grid.config.clip_triangles = false;
     std::vector<std::uint8_t> bytes = encode_sg(c);
     const auto at = static_cast<std::size_t>(test::load_le<std::uint64_t>(bytes, 88));
-    EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 84), 2u);
+    EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 84), 2u | 4u);
     c.grid.config.clip_triangles = true;
     c.grid.config.bounding_planes = false;
     bytes = encode_sg(c);
-    EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 84), 1u);
-    const SgContents back = read_sg_bytes(bytes, "conf.sg", {.verify_checksums = false});
+    EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 84), 1u | 4u);
+    SgContents back = read_sg_bytes(bytes, "conf.sg", {.verify_checksums = false});
     EXPECT_FALSE(back.grid.config.bounding_planes);
     EXPECT_TRUE(back.grid.config.clip_triangles);
+    EXPECT_TRUE(back.grid.config.bounding_nodes);
+    c.grid.config.bounding_planes = true;
+    c.grid.config.bounding_nodes = false;
+    bytes = encode_sg(c);
+    EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 84), 0u);
+    back = read_sg_bytes(bytes, "conf.sg", {.verify_checksums = false});
+    EXPECT_FALSE(back.grid.config.bounding_nodes);
+}
+
+TEST(SgFileConf, AFileWrittenBeforeBoundingNodesExistedReadsAsBuiltWithoutThem)
+{
+    // Files of the same format version written before the switch existed have bit 2 clear,
+    // and were built by the split rule alone: they must not read as built with bounding nodes.
+    BuildConfig defaults;
+    ASSERT_TRUE(defaults.bounding_nodes) << "the test assumes the switch's default is on";
+    SgContents c = unusual_contents(false);
+    c.grid.config.bounding_planes = true;
+    c.grid.config.clip_triangles = true;
+    const std::vector<std::uint8_t> bytes = encode_sg(c);
+    const auto at = static_cast<std::size_t>(test::load_le<std::uint64_t>(bytes, 88));
+    ASSERT_EQ(test::load_le<std::uint32_t>(bytes, at + 84), 0u) << "an older file's flags word";
+    const SgContents back = read_sg_bytes(bytes, "conf.sg");
+    EXPECT_FALSE(back.grid.config.bounding_nodes);
+    EXPECT_TRUE(back.grid.config.bounding_planes);
 }
 
 TEST(SgFileConf, ASwitchStoredAsAnythingButZeroOrOneIsRefusedWithItsOffset)

@@ -311,7 +311,7 @@ TEST_F(SgHostile, RecordSizeChangesAreRefusedNamingTheRecord)
     store_le<std::uint32_t>(bad, conf_at + 84, 9);
     EXPECT_EQ(refusal(bad, "r.sg", no_checksums),
               "r.sg: CONF build_flags has unknown bits set (at byte offset " +
-                  std::to_string(conf_at + 84) + ", expected bits 0-1 only, found 0x00000009)");
+                  std::to_string(conf_at + 84) + ", expected bits 0-2 only, found 0x00000009)");
     bad = bytes_;
     store_le<std::uint32_t>(bad, conf_at + 40, 2);
     EXPECT_EQ(refusal(bad, "r.sg", no_checksums),
@@ -476,9 +476,11 @@ TEST_F(SgHostileIndex, LeafRangePastTheReferenceArray)
 TEST_F(SgHostileIndex, NodeCellRangePastTheCellArray)
 {
     (void)refusal_of([](SgContents& c) {
+        // The node's last cell one past the array's end, whatever its resolution.
         const GridNode& n = c.grid.nodes.back();
         c.grid.nodes.back() = GridNode::from_raw(
-            n.lo, n.hi, static_cast<std::uint32_t>(c.grid.cells.size()) - 1, n.axis_res_bits());
+            n.lo, n.hi, static_cast<std::uint32_t>(c.grid.cells.size()) - n.resolution() + 1,
+            n.axis_res_bits());
     });
 }
 

@@ -235,7 +235,8 @@ TEST(SgFile, LayoutMatchesFormatDocument)
     EXPECT_EQ(load_le<std::uint32_t>(f, conf + 76) >> 2, c.grid.root.index());
     EXPECT_EQ(load_le<std::uint32_t>(f, conf + 76) & 3u, 2u) << "the root is inner";
     EXPECT_EQ(load_le<std::uint32_t>(f, conf + 80), 0u) << "reserved";
-    EXPECT_EQ(load_le<std::uint32_t>(f, conf + 84), 3u) << "build_flags: both options off";
+    EXPECT_EQ(load_le<std::uint32_t>(f, conf + 84), 7u)
+        << "build_flags: bounding planes and clipping off, bounding nodes on";
 
     // First records of the array sections, per grid_node.hpp's layouts.
     const auto section_offset = [&](std::size_t i) {

@@ -42,6 +42,7 @@ TEST(BuildConfigFields, EveryEntryReachesTheMemberOfItsName)
         if (name == "min_cell_width") return &c.min_cell_width;
         if (name == "stop_by_cost") return &c.stop_by_cost;
         if (name == "bounding_planes") return &c.bounding_planes;
+        if (name == "bounding_nodes") return &c.bounding_nodes;
         if (name == "clip_triangles") return &c.clip_triangles;
         if (name == "threads") return &c.threads;
         return nullptr;
@@ -56,7 +57,7 @@ TEST(BuildConfigFields, EveryEntryReachesTheMemberOfItsName)
         EXPECT_EQ(find_build_config_field(field.name), &field);
         EXPECT_FALSE(field.help.empty());
     }
-    EXPECT_EQ(names.size(), 11u) << "one entry per member, none twice";
+    EXPECT_EQ(names.size(), 12u) << "one entry per member, none twice";
     EXPECT_EQ(find_build_config_field("no_such_field"), nullptr);
 }
 
@@ -124,12 +125,13 @@ TEST(BuildConfigFields, AFieldAboveItsLimitNamesBoth)
     EXPECT_EQ(refusal(BuildConfig{}), "") << "the defaults are valid";
 }
 
-TEST(BuildConfigFields, SwitchesAreTheThreeBooleans)
+TEST(BuildConfigFields, SwitchesAreTheFourBooleans)
 {
     std::set<std::string> switches;
     for (const BuildConfigField& field : build_config_fields)
         if (field.is_switch()) switches.insert(std::string(field.name));
-    EXPECT_EQ(switches, (std::set<std::string>{"stop_by_cost", "bounding_planes", "clip_triangles"}));
+    EXPECT_EQ(switches, (std::set<std::string>{"stop_by_cost", "bounding_planes", "bounding_nodes",
+                                               "clip_triangles"}));
 }
 
 }  // namespace

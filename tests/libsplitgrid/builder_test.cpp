@@ -162,6 +162,7 @@ TEST(Builder, WithoutBoundingPlanesEveryNodeSpansItsBoxAndStaysExact)
     test::append(mesh, test::uv_sphere({3, 3, 3}, 1.5f, 16, 24));
     BuildConfig config;
     config.bounding_planes = false;
+    config.bounding_nodes = false;  // a plain nested grid: no planes on any axis
     const SplitGrid grid = build_checked(mesh, config);
     ASSERT_TRUE(grid.root.is_inner());
     std::vector<Aabb> boxes(grid.nodes.size());
@@ -188,6 +189,63 @@ TEST(Builder, WithoutBoundingPlanesEveryNodeSpansItsBoxAndStaysExact)
                     tight.nodes[k].hi < tight_boxes[k].upper[axis];
     }
     EXPECT_GT(narrowed, tight.nodes.size() / 4);
+}
+
+// Three small clusters on a diagonal: every cell between them is mostly empty space on the
+// axes the split did not cut, which is what bounding nodes are for.
+Mesh diagonal_clusters()
+{
+    Mesh mesh;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+        const float o = 1.0f + 3.5f * static_cast<float>(k);
+        test::append(mesh, test::random_triangles(20 + k, 400, Aabb{{o, o, o}, {o + 1, o + 1, o + 1}}, 0.2f));
+    }
+    test::append(mesh, test::uv_sphere({8, 2, 8}, 0.7f, 12, 16));
+    return mesh;
+}
+
+TEST(Builder, BoundingNodesAreOneCellNodesThatTraceExactly)
+{
+    const Mesh mesh = diagonal_clusters();
+    BuildConfig off;
+    off.bounding_nodes = false;
+    const SplitGrid plain = build_checked(mesh, off);
+    const SplitGrid bounded = build_checked(mesh);  // the default: bounding nodes on
+    std::size_t plain_one_cell = 0, one_cell = 0;
+    for (const GridNode& n : plain.nodes) plain_one_cell += n.resolution() == 1;
+    for (const GridNode& n : bounded.nodes) one_cell += n.resolution() == 1;
+    EXPECT_EQ(plain_one_cell, 0u) << "the split rule alone makes nodes of 2 cells or more";
+    EXPECT_GT(one_cell, 10u);
+
+    // Every one-cell node narrows its box. (build_checked has also checked, with a
+    // separating-axis test independent of the clipper, that every triangle touching a cell's
+    // box, narrowed by the one-cell nodes above it, is referenced there.)
+    std::vector<Aabb> boxes(bounded.nodes.size());
+    collect_node_boxes(bounded, bounded.root.child(), bounded.root_box, boxes);
+    for (std::size_t k = 0; k < bounded.nodes.size(); ++k) {
+        const GridNode& n = bounded.nodes[k];
+        if (n.resolution() != 1) continue;
+        EXPECT_TRUE(n.lo > boxes[k].lower[n.axis()] || n.hi < boxes[k].upper[n.axis()]) << "node " << k;
+    }
+
+    // Brute force agrees on random, aimed, axis-parallel and zero-component rays, closest and
+    // any hit (the traversal enters one-cell nodes without a cursor).
+    auto rays = test::random_rays(71, 4000, box10);
+    for (auto extra : {test::rays_at_triangles(72, 4000, box10, mesh.view()),
+                       test::zero_direction_rays(73, 4000, box10, mesh),
+                       test::axis_rays_through_lattice(74, 4000, 10, true)})
+        rays.insert(rays.end(), extra.begin(), extra.end());
+    for (const SplitGrid* grid : {&plain, &bounded}) {
+        const auto report = test::compare_with_brute_force(*grid, mesh.view(), rays);
+        EXPECT_EQ(report.closest_disagreements, 0u) << report.first_failure;
+        EXPECT_EQ(report.any_hit_disagreements, 0u) << report.first_failure;
+    }
+    // Same answers as without them: the closest hits are the same triangles at the same t.
+    for (const Ray& ray : rays) {
+        const Hit a = intersect(plain, mesh.view(), ray);
+        const Hit b = intersect(bounded, mesh.view(), ray);
+        ASSERT_TRUE(test::same_closest_hit(a, b));
+    }
 }
 
 TEST(Builder, RejectsBadConfigAndBadMesh)

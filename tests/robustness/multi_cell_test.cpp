@@ -112,6 +112,9 @@ TEST(MultiCell, HitInALaterCellDoesNotHideACloserTriangleInAnEarlierOne)
                 // hit fall into three different leaves (the premise checked below).
                 BuildConfig build;
                 build.resolution_max = 64;
+                // The premise is about the cells of one node; one-cell nodes around the
+                // leaves would move the ray's start outside every leaf.
+                build.bounding_nodes = false;
                 const SplitGrid grid = build_checked(layout.mesh, build);
                 // Tilted away from L, which then meets the ray a little later.
                 for (const Vec3f tilt : {Vec3f{1, 0, 0}, Vec3f{1, -0.0002f, 0},

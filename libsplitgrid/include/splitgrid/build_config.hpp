@@ -64,6 +64,12 @@ struct BuildConfig {
     /// false makes lo and hi the node box's own faces: a plain nested grid, for sg-bench's
     /// sweep to show what the planes are worth.
     bool bounding_planes = true;
+    /// Put one-cell nodes (bounding planes on a second or third axis) around a cell's
+    /// contents where the triangles leave at least a quarter of the cell's surface area empty,
+    /// so that a ray missing them skips the cell without walking or testing it. Each counts as
+    /// a node and a level. false builds only the nodes the split rule makes (the poster's
+    /// construction).
+    bool bounding_nodes = true;
     /// Reference a triangle in a cell only if the triangle itself, clipped to the node's box
     /// in double precision, touches the cell. false uses the triangle's bounding box clipped
     /// to the node's box instead (cheaper to build, more references): for sg-bench's sweep.
@@ -113,7 +119,7 @@ struct BuildConfigField {
 /// Every BuildConfig field, in declaration order (the order of the JSON keys). Adding a field
 /// to BuildConfig means adding it here; formats/src/sg_file_layout.hpp then refuses to
 /// compile until the field has a place in the .sg file's CONF record.
-inline constexpr std::array<BuildConfigField, 11> build_config_fields{{
+inline constexpr std::array<BuildConfigField, 12> build_config_fields{{
     {"resolution_min", &BuildConfig::resolution_min, 1, 1u << 20, false, "resolution_max",
      "Fewest cells of an inner node, used by small nodes near the leaves (2 makes them binary "
      "splits)."},
@@ -144,6 +150,10 @@ inline constexpr std::array<BuildConfigField, 11> build_config_fields{{
      "Cut each node's slab down to the tight extent of its triangles along the split axis "
      "(the Split Grid's bounding planes); off, the slab is the node box itself: a plain "
      "nested grid."},
+    {"bounding_nodes", &BuildConfig::bounding_nodes, 0, 0, false, {},
+     "Put one-cell nodes (bounding planes on another axis) around a cell's triangles where "
+     "they leave at least a quarter of the cell's surface area empty; off, only the split "
+     "rule's nodes are built (the poster's construction)."},
     {"clip_triangles", &BuildConfig::clip_triangles, 0, 0, false, {},
      "Reference a triangle only in the cells the triangle itself touches (exact clipping); "
      "off, its bounding box decides, which builds faster and makes more references."},

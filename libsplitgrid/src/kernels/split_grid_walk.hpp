@@ -66,7 +66,7 @@ public:
             (void)test_leaf_cell(grid_.root);
             return;
         }
-        enter_node(grid_.root.child(), t0, t1);
+        if (enter_node(grid_.root.child(), t0, t1)) return;
         while (sp_ > 0) {
             GridCursor& c = stack_[sp_ - 1];
             // Cells are in ray order: once one starts past the closest hit so far (or past the
@@ -91,7 +91,7 @@ public:
                 if (test_leaf_cell(cell) && search_.done()) return;
                 continue;
             }
-            enter_node(cell.child(), c0, c1);
+            if (enter_node(cell.child(), c0, c1)) return;
         }
     }
 
@@ -104,31 +104,63 @@ private:
     }
 
     // Clips [n0, n1] to the node's slab and pushes a cursor at the first cell the ray may be
-    // in. A full stack (ruled out by check_invariants) drops the node rather than overflow.
-    void enter_node(std::uint32_t index, float n0, float n1) noexcept
+    // in. A one-cell node (a bounding node on one axis) pushes nothing: its cell is entered at
+    // once over the clipped interval, and a chain of them is one loop. A full stack (ruled out
+    // by check_invariants) drops the node rather than overflow. True when an any-hit query is
+    // done.
+    bool enter_node(std::uint32_t index, float n0, float n1) noexcept
     {
-        search_.count_node();
-        const GridNode node = grid_.nodes[index];
+        for (;;) {
+            search_.count_node();
+            const GridNode node = grid_.nodes[index];
+            const std::uint32_t n = node.resolution();
+            if (n != 1 || ray_.extreme) return push_cursor(node, n0, n1);
+            const int axis = node.axis();
+            if (ray_.parallel[axis]) {
+                const float o = ray_.origin[axis];
+                if (!(o >= node.lo && o <= node.hi)) return false;
+            } else if (float t_lo; !clip_to_slab(node, axis, n0, n1, t_lo)) {
+                return false;
+            }
+            const CellRef cell = grid_.cells[node.first_cell()];
+            search_.count_cell();
+            if (cell.is_leaf()) return test_leaf_cell(cell) && search_.done();
+            if (!cell.is_inner()) return false;
+            index = cell.child();
+        }
+    }
+
+    // Clips [n0, n1] to the node's slab widened by the axis's crossing allowance; false when
+    // nothing is left. `t_lo` is the crossing of the lower plane.
+    bool clip_to_slab(const GridNode& node, int axis, float& n0, float& n1, float& t_lo) const noexcept
+    {
+        const float pad = ray_.pad[axis];
+        t_lo = ray_.crossing(axis, node.lo);
+        const float t_hi = ray_.crossing(axis, node.hi);
+        n0 = std::max(n0, std::min(t_lo, t_hi) - pad);
+        n1 = std::min(n1, std::max(t_lo, t_hi) + pad);
+        return n0 <= n1;
+    }
+
+    bool push_cursor(const GridNode& node, float n0, float n1) noexcept
+    {
         const int axis = node.axis();
         const std::uint32_t n = node.resolution();
         SG_ASSERT(sp_ < grid_stack_size);
-        if (sp_ >= grid_stack_size) return;
+        if (sp_ >= grid_stack_size) return false;
         if (ray_.parallel[axis]) {
             // Parallel to the axis: the ray stays in the cell of its origin (the lowest one if
             // the origin lies on a boundary: triangles there are referenced by both cells).
             const float o = ray_.origin[axis];
-            if (!(o >= node.lo && o <= node.hi)) return;
+            if (!(o >= node.lo && o <= node.hi)) return false;
             const auto cell = static_cast<std::int32_t>(CellMath(node.lo, node.hi, n).locate_lowest(o));
             stack_[sp_++] = GridCursor{std::numeric_limits<float>::infinity(), 0.0f, n0, n1, 0.0f,
                                        cell, cell + 1, 1, node.first_cell()};
-            return;
+            return false;
         }
+        float t_lo;
+        if (!clip_to_slab(node, axis, n0, n1, t_lo)) return false;
         const float pad = ray_.pad[axis];
-        const float t_lo = ray_.crossing(axis, node.lo);
-        const float t_hi = ray_.crossing(axis, node.hi);
-        n0 = std::max(n0, std::min(t_lo, t_hi) - pad);
-        n1 = std::min(n1, std::max(t_lo, t_hi) + pad);
-        if (!(n0 <= n1)) return;
         // Walk direction without a branch (its sign is the ray's, unpredictable per node):
         // up the axis from cell 0 to n - 1, or down from n - 1 to 0.
         const bool up = !ray_.negative[axis];
@@ -142,7 +174,7 @@ private:
             const std::int32_t first = up ? 0 : static_cast<std::int32_t>(n) - 1;
             stack_[sp_++] = GridCursor{std::numeric_limits<float>::quiet_NaN(), 0.0f, n0, n1, pad,
                                        first, end, step, node.first_cell()};
-            return;
+            return false;
         }
         const float dt = (node.hi - node.lo) * reciprocal_resolution(n) * ray_.inv[axis];
         // The first cell in ray order whose widened interval may reach n0: position of the
@@ -155,6 +187,7 @@ private:
         if (x != x) x = up ? 0.0f : last;
         const auto cell = static_cast<std::int32_t>(std::min(last, std::max(0.0f, x)));
         stack_[sp_++] = GridCursor{t_lo, dt, n0, n1, pad, cell, end, step, node.first_cell()};
+        return false;
     }
 
     const SplitGrid& grid_;
