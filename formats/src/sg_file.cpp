@@ -41,17 +41,12 @@ void store_field(const BuildConfig& config, const BuildConfigField& field,
         std::memcpy(at, &value, sizeof value);
         break;
     }
-    case detail::SgConfSlotKind::cleared_bit: {
-        std::uint32_t word = 0;
-        std::memcpy(&word, at, sizeof word);
-        if (!(config.*std::get<BuildConfigField::SwitchMember>(field.member))) word |= slot.bit;
-        std::memcpy(at, &word, sizeof word);
-        break;
-    }
+    case detail::SgConfSlotKind::cleared_bit:
     case detail::SgConfSlotKind::set_bit: {
         std::uint32_t word = 0;
         std::memcpy(&word, at, sizeof word);
-        if (config.*std::get<BuildConfigField::SwitchMember>(field.member)) word |= slot.bit;
+        const bool on = config.*std::get<BuildConfigField::SwitchMember>(field.member);
+        if (on == (slot.kind == detail::SgConfSlotKind::set_bit)) word |= slot.bit;
         std::memcpy(at, &word, sizeof word);
         break;
     }

@@ -342,12 +342,10 @@ void SgReader::load_field(const detail::SgConfigRecord& record, std::uint64_t co
         config.*std::get<BuildConfigField::SwitchMember>(field.member) = word == 1;
         return;
     case detail::SgConfSlotKind::cleared_bit:
-        std::memcpy(&word, at, sizeof word);
-        config.*std::get<BuildConfigField::SwitchMember>(field.member) = (word & slot.bit) == 0;
-        return;
     case detail::SgConfSlotKind::set_bit:
         std::memcpy(&word, at, sizeof word);
-        config.*std::get<BuildConfigField::SwitchMember>(field.member) = (word & slot.bit) != 0;
+        config.*std::get<BuildConfigField::SwitchMember>(field.member) =
+            ((word & slot.bit) != 0) == (slot.kind == detail::SgConfSlotKind::set_bit);
         return;
     }
 }

@@ -117,11 +117,8 @@ public:
         // gives the same box).
         const Aabb tight = reduce_box(extents);
         if (tight.is_empty()) return make_leaf(std::move(tris), weight);
-        if (n <= config_.leaf_size) {
-            Aabb bounded = box;
-            const std::vector<Bound> bounds = choose_bounds(bounded, tight, -1, depth);
-            return wrap(bounds, make_leaf(std::move(tris), weight));
-        }
+        if (n <= config_.leaf_size)
+            return make_bounded_leaf(box, tight, std::move(tris), depth, weight);
         // Axes by decreasing extent of the clipped triangles: the longest first, the
         // others only if it makes no progress.
         std::array<int, 3> axes{0, 1, 2};
@@ -136,11 +133,7 @@ public:
                 break;
             }
         }
-        if (!found) {
-            Aabb bounded = box;
-            const std::vector<Bound> bounds = choose_bounds(bounded, tight, -1, depth);
-            return wrap(bounds, make_leaf(std::move(tris), weight));
-        }
+        if (!found) return make_bounded_leaf(box, tight, std::move(tris), depth, weight);
         const int axis = split.axis;
         // One-cell nodes on the other axes where the triangles leave much of the box empty;
         // the node and its cells then lie in the narrowed box.
@@ -245,6 +238,14 @@ private:
             bounds.push_back(best);
         }
         return bounds;
+    }
+
+    // A leaf of `tris` inside the one-cell nodes worth putting around it on any axis.
+    BuiltCell make_bounded_leaf(Aabb box, const Aabb& tight, std::vector<std::uint32_t> tris,
+                                std::uint32_t depth, double weight)
+    {
+        const std::vector<Bound> bounds = choose_bounds(box, tight, -1, depth);
+        return wrap(bounds, make_leaf(std::move(tris), weight));
     }
 
     // `inner` inside the one-cell nodes `bounds` (outermost first).
