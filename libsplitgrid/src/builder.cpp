@@ -32,6 +32,16 @@ constexpr std::size_t parallel_grain = 4096;
 // instructions.
 constexpr double bounding_node_gain = 0.25;
 
+// A cell becomes a leaf when it received every one of its parent's triangles this many levels
+// in a row. Such a cell holds a place where all of them meet (a fan around a vertex, a shared
+// edge or corner): each split there repeats the last at a smaller scale, with the same
+// triangles in the cell around the meeting point, down to max_depth. Counted on seven scenes
+// (docs/BENCH.md, "Lever 4b"): 1 saves 2-13% of the bytes but gives the cell around a fan's
+// centre all of the fan, so on the BMW M6 incoherent rays test 6 times the triangles and run
+// 3-8% slower; 2 bounds the chains at no measured cost in speed and saves up to 4% of the
+// bytes; 3 builds nearly what no limit builds.
+constexpr std::uint32_t kept_all_limit = 2;
+
 // Rounds a double to the nearest float that is not above (below) it, so float boxes made
 // from double clipping results still contain them.
 float round_down(double x) noexcept
@@ -94,9 +104,12 @@ public:
     // Builds the cell covering `box` for the triangles `tris` (all known to touch the padded
     // box), as a node at `depth`, or a leaf when splitting does not pay. `extents` is empty or
     // holds, per triangle, its clipped extent in this box where the parent already knew it.
-    // `weight` is this cell's share of the whole build, for progress reports.
+    // `weight` is this cell's share of the whole build, for progress reports. `kept_all` counts
+    // the levels in a row at which this cell received all of its parent's triangles (see
+    // kept_all_limit).
     BuiltCell build_cell(const Aabb& box, std::vector<std::uint32_t> tris,
-                         std::vector<TriExtent> extents, std::uint32_t depth, double weight)
+                         std::vector<TriExtent> extents, std::uint32_t depth, double weight,
+                         std::uint32_t kept_all = 0)
     {
         BuiltCell cell;
         if (tris.empty()) return cell;
@@ -117,7 +130,7 @@ public:
         // gives the same box).
         const Aabb tight = reduce_box(extents);
         if (tight.is_empty()) return make_leaf(std::move(tris), weight);
-        if (n <= config_.leaf_size)
+        if (n <= config_.leaf_size || kept_all >= kept_all_limit)
             return make_bounded_leaf(box, tight, std::move(tris), depth, weight);
         // Axes by decreasing extent of the clipped triangles: the longest first, the
         // others only if it makes no progress.
@@ -176,8 +189,10 @@ public:
                 const Aabb child = cm.cell_box(bounded, axis, static_cast<std::uint32_t>(c));
                 const double share = weight * static_cast<double>(cell_tris[c].size()) /
                                      static_cast<double>(total_refs);
+                const std::uint32_t child_kept_all = cell_tris[c].size() == n ? kept_all + 1 : 0;
                 node->cells[c] = build_cell(child, std::move(cell_tris[c]),
-                                            std::move(cell_extents[c]), child_depth, share);
+                                            std::move(cell_extents[c]), child_depth, share,
+                                            child_kept_all);
             }
         };
         if (n >= parallel_grain)

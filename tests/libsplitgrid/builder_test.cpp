@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/stats.hpp"
@@ -92,6 +94,42 @@ TEST(Builder, ManyCopiesOfOneTriangleStopSplitting)
     EXPECT_LE(grid.triangle_refs.size(), 200000u);
     const Hit hit = intersect(grid, mesh.view(), Ray{{0.1f, 0.1f, 5.0f}, {0, 0, -1}});
     EXPECT_TRUE(hit.is_hit());
+}
+
+TEST(Builder, AFanAroundAVertexEndsInALeafAndNotAtTheDepthLimit)
+{
+    // 48 long triangles around one vertex, on a wavy surface so the fan is not flat (and the
+    // vertex off the middle, so that it lies inside a cell, not on a cell boundary). Every
+    // cell holding the vertex holds all of them, so each split around it only repeats itself
+    // at a smaller scale. Without the cost test and with every split counted as progress,
+    // nothing else stops that chain before max_depth (depth 32 and 18,000 references
+    // without the rule that ends it).
+    Mesh mesh;
+    mesh.vertices.push_back({5.3f, 4.6f, 5.2f});
+    constexpr int spokes = 48;
+    for (int k = 0; k < spokes; ++k) {
+        const double a = 2.0 * 3.14159265358979 * k / spokes;
+        mesh.vertices.push_back({static_cast<float>(5 + 4.5 * std::cos(a)),
+                                 static_cast<float>(5 + 4.5 * std::sin(a)),
+                                 static_cast<float>(5 + 2.0 * std::sin(3 * a))});
+    }
+    for (std::uint32_t k = 0; k < spokes; ++k)
+        mesh.triangles.push_back(Triangle{{0, 1 + k, 1 + (k + 1) % spokes}});
+    BuildConfig config;
+    config.stop_by_cost = false;
+    config.no_progress_fraction = 1.0;
+    config.min_cell_width = 0.0;
+    config.max_depth = max_supported_depth;
+    for (bool bounding_nodes : {false, true}) {
+        config.bounding_nodes = bounding_nodes;
+        const SplitGrid grid = build_checked(mesh, config);
+        const GridStats stats = compute_stats(grid);
+        EXPECT_LE(stats.max_depth, 12u) << "bounding nodes " << bounding_nodes;
+        EXPECT_LE(grid.triangle_refs.size(), 10u * spokes) << "bounding nodes " << bounding_nodes;
+        const auto rays = test::rays_at_triangles(6, 4000, box10, mesh.view());
+        const auto r = test::compare_with_brute_force(grid, mesh.view(), rays);
+        EXPECT_EQ(r.closest_disagreements + r.any_hit_disagreements, 0u) << r.first_failure;
+    }
 }
 
 // 4000 small random triangles and, last, one long sliver along the box's diagonal.

@@ -76,9 +76,9 @@ std::vector<Scene> degenerate_scenes()
         separate.triangles.push_back(Triangle{{3 * t, 3 * t + 1, 3 * t + 2}});
     }
     scenes.push_back({"100000 copies, own corners", separate});
-    // With the hardest settings the shared corners of a plane's triangles are split down to
-    // the depth limit (each lattice vertex is a fan that no split separates): 120 to 250
-    // nodes per triangle, so these planes stay small.
+    // With the hardest settings the shared corners of a plane's triangles (each lattice
+    // vertex is a fan that no split separates) are split until a cell has kept all of its
+    // parent's triangles twice in a row: 9 to 10 nodes per triangle.
     scenes.push_back({"coplanar z = 3", axis_plane(2, 3.0f, 20)});
     scenes.push_back({"coplanar x = -2", axis_plane(0, -2.0f, 10)});
     scenes.push_back({"slivers", thin_triangles(91, 3000, false)});

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <random>
 
@@ -25,14 +26,33 @@
 namespace sg::test {
 namespace {
 
-// The six faces of a cube of side 6, each 6 x 6 quads: with the settings that split hardest
-// the builder reaches its depth limit, 64, around the shared corners.
+// The six faces of a cube of side 6, each 6 x 6 quads: triangles sharing edges and corners,
+// which the settings that split hardest slice as finely as the builder allows.
 Mesh box_of_planes()
 {
     Mesh mesh;
     for (int axis = 0; axis < 3; ++axis) {
         append(mesh, axis_plane(axis, 0.0f, 6));
         append(mesh, axis_plane(axis, 6.0f, 6));
+    }
+    return mesh;
+}
+
+// 60 small triangles, each half the size of the last and half as far from the origin: a
+// chain the builder can follow down to its depth limit, 64, when every node has two cells,
+// since each level leaves the smallest triangles in one cell without leaving all of them.
+// (Triangles that share a corner do not make such a chain: a cell that keeps all of its
+// parent's triangles twice in a row becomes a leaf.)
+Mesh shrinking_triangles()
+{
+    Mesh mesh;
+    for (int k = 0; k < 60; ++k) {
+        const float s = std::ldexp(1.0f, -k);
+        const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+        mesh.vertices.push_back({s, s, s});
+        mesh.vertices.push_back({1.3f * s, s, 1.1f * s});
+        mesh.vertices.push_back({s, 1.3f * s, 1.2f * s});
+        mesh.triangles.push_back(Triangle{{base, base + 1, base + 2}});
     }
     return mesh;
 }
@@ -172,17 +192,20 @@ void check_termination(const char* name, const Mesh& mesh, const BuildConfig& co
 
 TEST(Termination, WorkPerRayStaysWithinTheBoundOnOrdinaryAndDeepestGrids)
 {
-    // 5 * 10^5 rays in CI, 10^7 in full (each traced closest-hit and any-hit), over 4 scenes.
+    // 5 * 10^5 rays in CI, 10^7 in full (each traced closest-hit and any-hit), over 5 scenes.
     const std::size_t n = pick_size(500000, 10000000);
     const Aabb box{{0, 0, 0}, {10, 10, 10}};
     check_termination("soup", random_triangles(111, 5000, box, 1.0f), {}, 112, n / 4);
     check_termination("sphere", uv_sphere({1, 2, 3}, 5.0f, 48, 96), {}, 113, n / 4);
     check_termination("cube faces", box_of_planes(), {}, 114, n / 4);
-    const Mesh deep = box_of_planes();
-    const SplitGrid grid = build_split_grid(deep.view(), hardest_splitting());
+    check_termination("cube, hardest", box_of_planes(), hardest_splitting(), 115, n / 4);
+    const Mesh deep = shrinking_triangles();
+    BuildConfig deepest = hardest_splitting();
+    deepest.resolution_max = 2;
+    const SplitGrid grid = build_split_grid(deep.view(), deepest);
     ASSERT_EQ(compute_stats(grid).max_depth, max_supported_depth)
         << "the deepest tree the builder can make must reach the depth limit";
-    check_termination("cube, hardest", deep, hardest_splitting(), 115, n / 4);
+    check_termination("shrinking, deepest", deep, deepest, 117, n / 4);
 }
 
 TEST(Termination, RaysThroughTheDeepestAcceptedChainReachItsLeaf)
