@@ -28,6 +28,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 STRUCTURE_COLOURS = {
     "splitgrid": "#d62728",
+    "splitgrid_poster": "#ff9896",
     "uniform_grid": "#7f7f7f",
     "kd_tree": "#2ca02c",
     "bvh": "#1f77b4",
@@ -35,6 +36,7 @@ STRUCTURE_COLOURS = {
 }
 STRUCTURE_LABELS = {
     "splitgrid": "Split Grid",
+    "splitgrid_poster": "Split Grid (poster)",
     "uniform_grid": "uniform grid",
     "kd_tree": "kd-tree",
     "bvh": "BVH",
@@ -103,7 +105,7 @@ def figure3(results, out_dir):
     axes[-1].set_xticks(range(len(scenes)))
     axes[-1].set_xticklabels(["%s\n%s tris" % (s["scene"], human(s["triangles"])) for s in scenes],
                              rotation=45, ha="right", fontsize=8)
-    axes[0].legend(ncol=len(structures), fontsize=8, loc="upper left")
+    axes[0].legend(ncol=min(len(structures), 3), fontsize=8, loc="upper left")
     fig.suptitle("Figure 3 of the Split Grid poster, measured here (log scales)")
     path = os.path.join(out_dir, "figure3.png")
     save(fig, path)

@@ -15,9 +15,9 @@ import os
 import statistics
 import sys
 
-LABELS = {"splitgrid": "Split Grid", "uniform_grid": "uniform grid", "kd_tree": "kd-tree",
-          "bvh": "BVH", "embree": "Embree 3"}
-OURS = ["splitgrid", "uniform_grid", "kd_tree", "bvh"]
+LABELS = {"splitgrid": "Split Grid", "splitgrid_poster": "Split Grid (poster)",
+          "uniform_grid": "uniform grid", "kd_tree": "kd-tree", "bvh": "BVH", "embree": "Embree 3"}
+OURS = ["splitgrid", "splitgrid_poster", "uniform_grid", "kd_tree", "bvh"]
 
 
 def label(name):

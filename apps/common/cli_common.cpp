@@ -286,6 +286,20 @@ void add_build_config_flags(CLI::App& app, BuildConfig& config, bool with_thread
 {
     const BuildConfig defaults{};
     const std::string group = "Build parameters (BuildConfig)";
+    // Added before the fields: CLI11 runs the callbacks in the order the options were added,
+    // so a field's own flag overrides the preset whatever the order on the command line.
+    app.add_option_function<std::string>(
+           "--preset",
+           [&config](const std::string& name) { config = apply_build_preset(config, name); },
+           "A named construction. default: the fastest Split Grid this toolkit makes. poster: "
+           "the construction of the Eurographics 2014 poster, no bounding nodes and no cost "
+           "test (the same as --no-bounding-nodes --no-stop-by-cost; docs/SPLIT_GRID.md lists "
+           "every departure from the poster). Flags given with it override it. Default: "
+           "default.")
+        ->check(CLI::IsMember(std::vector<std::string>(build_preset_names.begin(),
+                                                        build_preset_names.end())))
+        ->type_name("NAME")
+        ->group(group);
     for (const BuildConfigField& field : build_config_fields) {
         if (field.name == "threads" && !with_threads) continue;
         const std::string flag = build_config_flag(field);

@@ -134,7 +134,8 @@ std::vector<QueryVariant> all_variants()
 
 std::vector<std::string> structure_names()
 {
-    std::vector<std::string> names{"splitgrid", "uniform_grid", "kd_tree", "bvh"};
+    std::vector<std::string> names{"splitgrid", "splitgrid_poster", "uniform_grid", "kd_tree",
+                                   "bvh"};
     if (has_embree()) names.push_back("embree");
     return names;
 }
@@ -145,6 +146,9 @@ std::unique_ptr<BenchStructure> build_structure(const std::string& name, const M
 {
     if (name == "splitgrid")
         return std::make_unique<SplitGridStructure>(mesh, configs.split_grid, threads);
+    if (name == "splitgrid_poster")
+        return std::make_unique<SplitGridStructure>(
+            mesh, apply_build_preset(configs.split_grid, "poster"), threads);
     if (name == "uniform_grid")
         return std::make_unique<BaselineStructure<UniformGrid>>(mesh, configs.uniform_grid,
                                                                  threads);

@@ -75,8 +75,10 @@ struct StructureConfigs {
     bool embree_robust = false;
 };
 
-/// Names sg-bench accepts for --structures, in report order: "splitgrid", "uniform_grid",
-/// "kd_tree", "bvh", and "embree" when the build found Embree (SG_WITH_EMBREE).
+/// Names sg-bench accepts for --structures, in report order: "splitgrid" (the build flags'
+/// construction, by default the default preset), "splitgrid_poster" (the same flags with the
+/// poster preset applied), "uniform_grid", "kd_tree", "bvh", and "embree" when the build
+/// found Embree (SG_WITH_EMBREE).
 [[nodiscard]] std::vector<std::string> structure_names();
 /// True if this build of sg-bench includes Embree.
 [[nodiscard]] bool has_embree();

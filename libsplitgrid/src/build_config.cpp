@@ -70,4 +70,16 @@ void validate(const BuildConfig& config)
     }
 }
 
+BuildConfig apply_build_preset(BuildConfig config, std::string_view name)
+{
+    if (name == "poster") {
+        config.bounding_nodes = false;
+        config.stop_by_cost = false;
+    } else if (name != "default") {
+        throw ConfigError("unknown build preset '" + std::string(name) +
+                          "' (the presets are default and poster)");
+    }
+    return config;
+}
+
 }  // namespace sg

@@ -15,6 +15,7 @@
 
 #include "app_test_support.hpp"
 #include "splitgrid/formats/mesh_import.hpp"
+#include "splitgrid/formats/sg_file.hpp"
 #include "splitgrid/query.hpp"
 
 #include <gtest/gtest.h>
@@ -82,8 +83,19 @@ TEST(SgBench, QuickRunWritesResultsThatMatchTheInputs)
             }
         }
     }
-    for (const char* name : {"splitgrid", "uniform_grid", "kd_tree", "bvh"})
+    for (const char* name : {"splitgrid", "splitgrid_poster", "uniform_grid", "kd_tree", "bvh"})
         EXPECT_TRUE(structures.count(name)) << name;
+    // The poster's structure is what sg-build --preset poster makes of the same mesh.
+    const fs::path poster = scratch / "poster.sg";
+    const ToolRun build = run_tool(
+        SG_BUILD_EXE, {model.string(), "-o", poster.string(), "--preset", "poster", "-q"}, scratch);
+    ASSERT_EQ(build.exit_code, 0) << describe(build);
+    const SplitGrid poster_grid = read_sg_file(poster).grid;
+    for (const json& s : scene.at("structures")) {
+        if (s.at("structure") != "splitgrid_poster") continue;
+        EXPECT_EQ(s.at("references"), poster_grid.triangle_refs.size());
+        EXPECT_EQ(s.at("structure_bytes"), poster_grid.memory_bytes());
+    }
 #ifdef SG_BENCH_HAS_EMBREE
     EXPECT_TRUE(structures.count("embree"));
 #endif
@@ -97,7 +109,7 @@ TEST(SgBench, QuickRunWritesResultsThatMatchTheInputs)
             EXPECT_EQ(a.at("misses"), 0) << a.at("structure");
         }
     }
-    EXPECT_EQ(accuracy_rows, 2 * (4 * 4 + (structures.count("embree") ? 2 : 0)));
+    EXPECT_EQ(accuracy_rows, 2 * (4 * 5 + (structures.count("embree") ? 2 : 0)));
     EXPECT_GT(j.at("sweep").at("points").size(), 10u);
     for (const json& p : j.at("sweep").at("points")) EXPECT_EQ(p.at("disagreements"), 0) << p;
     // The scale series: 300 (a patch of the model) and 3000 triangles per structure.

@@ -186,6 +186,50 @@ TEST(SgBuild, BuildFlagsReachTheFile)
     EXPECT_EQ(outside, 0u);
 }
 
+TEST(SgBuild, PosterPresetBuildsThePostersNodesAndFlagsOverrideIt)
+{
+    const fs::path model = assimp_model("Collada/duck.dae");
+    ASSERT_TRUE(fs::exists(model));
+    ScratchDir scratch;
+    auto build = [&](const std::string& name, std::vector<std::string> flags) {
+        const fs::path out = scratch / (name + ".sg");
+        std::vector<std::string> args{model.string(), "-o", out.string(), "-q"};
+        args.insert(args.end(), flags.begin(), flags.end());
+        const ToolRun run = run_tool(SG_BUILD_EXE, args, scratch);
+        EXPECT_EQ(run.exit_code, 0) << describe(run);
+        return read_sg_file(out).grid;
+    };
+    const SplitGrid poster = build("poster", {"--preset", "poster"});
+    BuildConfig expected;
+    expected.bounding_nodes = false;
+    expected.stop_by_cost = false;
+    expected.threads = 0;
+    EXPECT_EQ(poster.config, expected);
+    // Only the split rule's nodes: no one-cell node anywhere (the default makes many here).
+    std::size_t one_cell = 0;
+    for (const GridNode& node : poster.nodes) one_cell += node.resolution() == 1u ? 1 : 0;
+    EXPECT_EQ(one_cell, 0u);
+    std::size_t default_one_cell = 0;
+    for (const GridNode& node : build("default", {"--preset", "default"}).nodes)
+        default_one_cell += node.resolution() == 1u ? 1 : 0;
+    EXPECT_GT(default_one_cell, 0u);
+
+    // A flag given with the preset wins, before or after it on the command line.
+    for (const auto& flags : {std::vector<std::string>{"--preset", "poster", "--bounding-nodes"},
+                              std::vector<std::string>{"--bounding-nodes", "--preset", "poster"}}) {
+        const SplitGrid mixed = build("mixed", flags);
+        EXPECT_TRUE(mixed.config.bounding_nodes);
+        EXPECT_FALSE(mixed.config.stop_by_cost);
+    }
+
+    const fs::path bad = scratch / "bad.sg";
+    const ToolRun run = run_tool(SG_BUILD_EXE,
+                                 {model.string(), "-o", bad.string(), "--preset", "fastest"}, scratch);
+    EXPECT_EQ(run.exit_code, 1) << describe(run);  // a usage error
+    EXPECT_NE(run.err.find("--preset"), std::string::npos) << run.err;
+    EXPECT_FALSE(fs::exists(bad));
+}
+
 TEST(SgBuild, SameGridForOneAndFourThreads)
 {
     const fs::path model = assimp_model("PLY/Wuson.ply");

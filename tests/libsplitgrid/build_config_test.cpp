@@ -134,5 +134,22 @@ TEST(BuildConfigFields, SwitchesAreTheFourBooleans)
                                                "clip_triangles"}));
 }
 
+TEST(BuildPresets, PosterTurnsOffWhatThePosterDoesNotHaveAndKeepsTheRest)
+{
+    BuildConfig mine;
+    mine.leaf_size = 3;
+    mine.resolution_max = 40;
+    mine.clip_triangles = false;
+    const BuildConfig poster = apply_build_preset(mine, "poster");
+    BuildConfig expected = mine;
+    expected.bounding_nodes = false;
+    expected.stop_by_cost = false;
+    EXPECT_EQ(poster, expected);
+    EXPECT_EQ(refusal(poster), "");
+    EXPECT_EQ(apply_build_preset(mine, "default"), mine);
+    EXPECT_THROW((void)apply_build_preset(mine, "Poster"), ConfigError);
+    EXPECT_THROW((void)apply_build_preset(mine, ""), ConfigError);
+}
+
 }  // namespace
 }  // namespace sg

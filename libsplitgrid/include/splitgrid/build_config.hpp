@@ -56,8 +56,10 @@ struct BuildConfig {
     double min_cell_width = 1.0;
     /// Keep a split only if it lowers the expected cost of the surface-area model that
     /// sg-stats reports (stats.hpp, unit constants), with the cells taken as leaves: without
-    /// it, fans of triangles around a vertex and cells smaller than their triangles are split
-    /// down to max_depth. A split that fails is retried on the other axes.
+    /// it, every split that makes progress by counts is kept, also where it only copies
+    /// references. A split that fails is retried on the other axes. (Whatever the settings, a
+    /// cell that receives every one of its parent's triangles at two levels in a row becomes a
+    /// leaf.)
     bool stop_by_cost = true;
     /// Cut each node's slab down to the tight extent of its clipped triangles along the split
     /// axis (the poster's bounding planes), so that a ray missing [lo, hi] skips the node.
@@ -169,6 +171,21 @@ inline constexpr std::array<BuildConfigField, 12> build_config_fields{{
         if (field.name == name) return &field;
     return nullptr;
 }
+
+/// The two named constructions (--preset in the tools). "default" is BuildConfig{}: the
+/// fastest Split Grid this library makes. "poster" is the construction of the poster
+/// (Bauszat, Kastner, Eisemann, Magnor, Eurographics 2014): nested 1D grids with bounding
+/// planes, a Gaussian resolution and no cost function, so only the nodes its split rule makes
+/// (no one-cell bounding nodes) and no cost test. It keeps the rules a build needs to end on
+/// real meshes (no_progress_fraction, min_cell_width, a cell that keeps all of its parent's
+/// triangles twice in a row becomes a leaf) and the tight-box axis choice and clipping;
+/// docs/SPLIT_GRID.md lists every departure from the poster with its measured effect.
+inline constexpr std::array<std::string_view, 2> build_preset_names{"default", "poster"};
+
+/// `config` with preset `name` applied: "poster" switches off what the poster does not have
+/// (bounding_nodes, stop_by_cost) and leaves every other field as it is; "default" changes
+/// nothing. Throws ConfigError for any other name.
+[[nodiscard]] BuildConfig apply_build_preset(BuildConfig config, std::string_view name);
 
 /// Throws ConfigError naming the first field outside its range, e.g.
 /// "BuildConfig.leaf_size = 0 is out of range [1, 1048576]", then the first field above the
