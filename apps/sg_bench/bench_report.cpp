@@ -181,7 +181,7 @@ std::string results_table(const BenchResults& results, const BenchPlan& plan)
     const unsigned last_threads = plan.thread_counts.back();
     for (const SceneResult& scene : results.scenes) {
         out += fmt::format("\n{} ({} triangles, {})\n", scene.scene, scene.triangles, scene.source);
-        out += fmt::format("  {:<13}", "structure");
+        out += fmt::format("  {:<16}", "structure");
         for (unsigned t : plan.thread_counts) out += fmt::format(" {:>9}", fmt::format("build {}t", t));
         out += fmt::format(" {:>8} {:>8}", "B/tri", "refs/tri");
         for (const std::string& w : scene.workload_names)
@@ -189,7 +189,7 @@ std::string results_table(const BenchResults& results, const BenchPlan& plan)
         out += fmt::format(" {:>9}\n", "disagree");
         const StructureResult* embree = find_structure(scene, "embree");
         for (const StructureResult& sr : scene.structures) {
-            out += fmt::format("  {:<13}", sr.structure);
+            out += fmt::format("  {:<16}", sr.structure);
             for (double b : sr.build_seconds) out += fmt::format(" {:>8.3f}s", b);
             out += fmt::format(" {:>8.1f} {:>8.2f}", per_triangle(sr.total_bytes, scene.triangles),
                                per_triangle(sr.references, scene.triangles));
@@ -213,14 +213,14 @@ std::string results_table(const BenchResults& results, const BenchPlan& plan)
     if (!results.accuracy.empty()) {
         out += "\nwatertightness: rays from inside a closed sphere (misses per million, Mrays/s "
                "on 1 thread)\n";
-        out += fmt::format("  {:<13} {:<24} {:>14} {:>14} {:>9}\n", "structure", "variant",
+        out += fmt::format("  {:<16} {:<24} {:>14} {:>14} {:>9}\n", "structure", "variant",
                            "origin", "far", "Mrays/s");
         for (const AccuracyResult& a : results.accuracy) {
             if (a.position != "origin") continue;
             const AccuracyResult* far = nullptr;
             for (const AccuracyResult& b : results.accuracy)
                 if (b.position == "far" && b.structure == a.structure && b.variant == a.variant) far = &b;
-            out += fmt::format("  {:<13} {:<24} {:>14.1f} {:>14.1f} {:>9.2f}\n", a.structure,
+            out += fmt::format("  {:<16} {:<24} {:>14.1f} {:>14.1f} {:>9.2f}\n", a.structure,
                                a.variant, a.misses_per_million(),
                                far ? far->misses_per_million() : 0.0, a.mrays_per_s);
         }
@@ -237,10 +237,10 @@ std::string results_table(const BenchResults& results, const BenchPlan& plan)
     }
     if (!results.scale.empty()) {
         out += fmt::format("\nmemory against scene size (from {})\n", results.scale_model);
-        out += fmt::format("  {:>10} {:<13} {:>10} {:>10} {:>9} {:>9}\n", "triangles", "structure",
+        out += fmt::format("  {:>10} {:<16} {:>10} {:>10} {:>9} {:>9}\n", "triangles", "structure",
                            "build s", "B/tri", "struct B", "refs/tri");
         for (const ScaleResult& r : results.scale)
-            out += fmt::format("  {:>10} {:<13} {:>10.3f} {:>10.1f} {:>9.1f} {:>9.2f}\n",
+            out += fmt::format("  {:>10} {:<16} {:>10.3f} {:>10.1f} {:>9.1f} {:>9.2f}\n",
                                r.triangles, r.structure, r.build_seconds,
                                r.total_bytes_per_triangle, r.structure_bytes_per_triangle,
                                r.references_per_triangle);

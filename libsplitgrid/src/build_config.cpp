@@ -76,8 +76,11 @@ BuildConfig apply_build_preset(BuildConfig config, std::string_view name)
         config.bounding_nodes = false;
         config.stop_by_cost = false;
     } else if (name != "default") {
-        throw ConfigError("unknown build preset '" + std::string(name) +
-                          "' (the presets are default and poster)");
+        std::string known;
+        for (std::string_view preset : build_preset_names)
+            known += (known.empty() ? "" : ", ") + std::string(preset);
+        throw ConfigError("unknown build preset '" + std::string(name) + "' (the presets are " +
+                          known + ")");
     }
     return config;
 }

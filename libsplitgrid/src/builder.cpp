@@ -35,11 +35,9 @@ constexpr double bounding_node_gain = 0.25;
 // A cell becomes a leaf when it received every one of its parent's triangles this many levels
 // in a row. Such a cell holds a place where all of them meet (a fan around a vertex, a shared
 // edge or corner): each split there repeats the last at a smaller scale, with the same
-// triangles in the cell around the meeting point, down to max_depth. Counted on seven scenes
-// (docs/BENCH.md, "Lever 4b"): 1 saves 2-13% of the bytes but gives the cell around a fan's
-// centre all of the fan, so on the BMW M6 incoherent rays test 6 times the triangles and run
-// 3-8% slower; 2 bounds the chains at no measured cost in speed and saves up to 4% of the
-// bytes; 3 builds nearly what no limit builds.
+// triangles in the cell around the meeting point, down to max_depth. 1 would put a whole fan
+// into the cell around its centre, where many rays pass; 2 ends the chains and leaves the
+// work per ray as it was (docs/BENCH.md, "Lever 4b", has the counts for 1, 2 and no limit).
 constexpr std::uint32_t kept_all_limit = 2;
 
 // Rounds a double to the nearest float that is not above (below) it, so float boxes made

@@ -139,7 +139,8 @@ TEST(SgBench, QuickRunWritesResultsThatMatchTheInputs)
     }
     // The table on stdout names every structure; nothing else goes there. stderr ends with
     // the list of the files written.
-    for (const std::string& s : structures) EXPECT_NE(run.out.find(s), std::string::npos) << s;
+    for (const std::string& s : structures)
+        EXPECT_NE(run.out.find("  " + s + " "), std::string::npos) << s;
     EXPECT_EQ(run.out.find("wrote"), std::string::npos) << run.out;
     EXPECT_EQ(run.out.find("info"), std::string::npos) << run.out;
     EXPECT_EQ(run.out.rfind("\nWuson (", 0), 0u) << run.out;

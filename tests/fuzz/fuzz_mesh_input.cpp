@@ -79,10 +79,10 @@ MeshCase decode_mesh_case(std::span<const std::uint8_t> bytes)
     const std::uint8_t width_byte = in.next();
     config.stop_by_cost = (in.next() & 1u) != 0;
     // Without both the cell-width cap and the cost test, nothing but max_depth bounds how
-    // finely cells are sliced, and a grid's size grows like resolution^depth: 19 triangles
-    // made 12 million references (6 s to build in Release, minutes under the sanitizers), a
-    // size and not a bug. So one of the two is always on here; the unit and robustness
-    // tests build with both off (robustness_support.hpp, hardest_splitting).
+    // finely cells are sliced, and a grid's size grows like resolution^depth: a few dozen
+    // triangles can make millions of references, a size and not a bug, too slow under the
+    // sanitizers (docs/FUZZING.md). So one of the two is always on here; the unit and
+    // robustness tests build with both off (robustness_support.hpp, hardest_splitting).
     config.min_cell_width = (config.stop_by_cost ? width_byte : 1.0 + width_byte) / 32.0;
     config.threads = 1;
 

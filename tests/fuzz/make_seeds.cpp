@@ -79,7 +79,8 @@ int main(int argc, char** argv)
     fs::create_directories(out / "sg_reader");
     fs::create_directories(out / "build_trace");
     // Config bytes (fuzz_mesh_input.hpp): defaults-like, and a finer one with small leaves and
-    // the cost rule off.
+    // the cost rule off (its width byte 0 decodes to min_cell_width 1/32: the decoder keeps
+    // the cap on when the cost rule is off).
     const std::uint8_t default_like[8] = {1, 62, 191, 7, 32, 229, 32, 1};
     const std::uint8_t fine[8] = {3, 30, 3, 1, 12, 240, 0, 0};
     for (const auto& [name, mesh] : seed_meshes()) {

@@ -195,17 +195,17 @@ TEST(Termination, WorkPerRayStaysWithinTheBoundOnOrdinaryAndDeepestGrids)
     // 5 * 10^5 rays in CI, 10^7 in full (each traced closest-hit and any-hit), over 5 scenes.
     const std::size_t n = pick_size(500000, 10000000);
     const Aabb box{{0, 0, 0}, {10, 10, 10}};
-    check_termination("soup", random_triangles(111, 5000, box, 1.0f), {}, 112, n / 4);
-    check_termination("sphere", uv_sphere({1, 2, 3}, 5.0f, 48, 96), {}, 113, n / 4);
-    check_termination("cube faces", box_of_planes(), {}, 114, n / 4);
-    check_termination("cube, hardest", box_of_planes(), hardest_splitting(), 115, n / 4);
+    check_termination("soup", random_triangles(111, 5000, box, 1.0f), {}, 112, n / 5);
+    check_termination("sphere", uv_sphere({1, 2, 3}, 5.0f, 48, 96), {}, 113, n / 5);
+    check_termination("cube faces", box_of_planes(), {}, 114, n / 5);
+    check_termination("cube, hardest", box_of_planes(), hardest_splitting(), 115, n / 5);
     const Mesh deep = shrinking_triangles();
     BuildConfig deepest = hardest_splitting();
     deepest.resolution_max = 2;
     const SplitGrid grid = build_split_grid(deep.view(), deepest);
     ASSERT_EQ(compute_stats(grid).max_depth, max_supported_depth)
         << "the deepest tree the builder can make must reach the depth limit";
-    check_termination("shrinking, deepest", deep, deepest, 117, n / 4);
+    check_termination("shrinking, deepest", deep, deepest, 117, n / 5);
 }
 
 TEST(Termination, RaysThroughTheDeepestAcceptedChainReachItsLeaf)
