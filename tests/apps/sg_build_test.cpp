@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/leaf_triangles.hpp"
+#include "support/one_cell_nodes.hpp"
 
 namespace sg::test {
 namespace {
@@ -206,13 +207,8 @@ TEST(SgBuild, PosterPresetBuildsThePostersNodesAndFlagsOverrideIt)
     expected.threads = 0;
     EXPECT_EQ(poster.config, expected);
     // Only the split rule's nodes: no one-cell node anywhere (the default makes many here).
-    std::size_t one_cell = 0;
-    for (const GridNode& node : poster.nodes) one_cell += node.resolution() == 1u ? 1 : 0;
-    EXPECT_EQ(one_cell, 0u);
-    std::size_t default_one_cell = 0;
-    for (const GridNode& node : build("default", {"--preset", "default"}).nodes)
-        default_one_cell += node.resolution() == 1u ? 1 : 0;
-    EXPECT_GT(default_one_cell, 0u);
+    EXPECT_EQ(one_cell_node_count(poster), 0u);
+    EXPECT_GT(one_cell_node_count(build("default", {"--preset", "default"})), 0u);
 
     // A flag given with the preset wins, before or after it on the command line.
     for (const auto& flags : {std::vector<std::string>{"--preset", "poster", "--bounding-nodes"},

@@ -9,6 +9,7 @@
 #include "splitgrid/stats.hpp"
 #include "splitgrid/traverse.hpp"
 #include "splitgrid/validate.hpp"
+#include "support/one_cell_nodes.hpp"
 #include "support/oracle.hpp"
 #include "support/random_scene.hpp"
 
@@ -249,11 +250,9 @@ TEST(Builder, BoundingNodesAreOneCellNodesThatTraceExactly)
     off.bounding_nodes = false;
     const SplitGrid plain = build_checked(mesh, off);
     const SplitGrid bounded = build_checked(mesh);  // the default: bounding nodes on
-    std::size_t plain_one_cell = 0, one_cell = 0;
-    for (const GridNode& n : plain.nodes) plain_one_cell += n.resolution() == 1;
-    for (const GridNode& n : bounded.nodes) one_cell += n.resolution() == 1;
-    EXPECT_EQ(plain_one_cell, 0u) << "the split rule alone makes nodes of 2 cells or more";
-    EXPECT_GT(one_cell, 10u);
+    EXPECT_EQ(test::one_cell_node_count(plain), 0u)
+        << "the split rule alone makes nodes of 2 cells or more";
+    EXPECT_GT(test::one_cell_node_count(bounded), 10u);
 
     // Every one-cell node narrows its box. (build_checked has also checked, with a
     // separating-axis test independent of the clipper, that every triangle touching a cell's
