@@ -205,6 +205,56 @@ def targets(w, scenes, threads, median):
     w("")
 
 
+# Scenes from this many triangles on count in the build medians; smaller builds take
+# milliseconds, where timer and task overheads dominate.
+BUILD_MEDIAN_MIN_TRIANGLES = 100000
+
+
+def build_cost(w, scenes, names, threads):
+    """Microseconds per triangle and thread of every builder, and its speed-up over threads."""
+    first, last = threads[0], threads[-1]
+    w("## Build cost per triangle and thread\n")
+    w("Build time x threads / triangles, in microseconds, on %s and on %s (a builder that "
+      "scales perfectly has the same figure on both), and the speed-up from %s to %s "
+      "(build time on %s over build time on %s). Every timed build follows an untimed one "
+      "of the same structure, with the structure built before released (BENCH.md, \"Build "
+      "time\"). Medians over the scenes of at least %s triangles.\n"
+      % (thread_count(first), thread_count(last), thread_count(first), thread_count(last),
+         thread_count(first), thread_count(last), "{:,}".format(BUILD_MEDIAN_MIN_TRIANGLES)))
+    head = ["scene"] + ["%s us/tri.thread %st / %st, speed-up" % (label(n), first, last)
+                        for n in names]
+    w("| " + " | ".join(head) + " |")
+    w("|" + "---|" * len(head))
+    columns = {n: ([], [], []) for n in names}
+
+    def per_tri(s, t, tris):
+        return s["build_seconds"][t] * int(t) / tris * 1e6 if t in s["build_seconds"] else None
+
+    for scene in scenes:
+        tris = scene["triangles"]
+        row = ["%s (%s)" % (scene["scene"], human(tris))]
+        for n in names:
+            s = structure(scene, n)
+            a = per_tri(s, first, tris) if s and tris else None
+            b = per_tri(s, last, tris) if s and tris else None
+            if a is None or b is None:
+                row.append("-")
+                continue
+            up = s["build_seconds"][first] / s["build_seconds"][last] if s["build_seconds"][last] else 0
+            row.append("%.2f / %.2f, %.2f" % (a, b, up))
+            if tris >= BUILD_MEDIAN_MIN_TRIANGLES:
+                for col, v in zip(columns[n], (a, b, up)):
+                    col.append(v)
+        w("| " + " | ".join(row) + " |")
+    row = ["**median, >= %s triangles**" % human(BUILD_MEDIAN_MIN_TRIANGLES)]
+    for n in names:
+        a, b, up = columns[n]
+        row.append("**%.2f / %.2f, %.2f**" % (statistics.median(a), statistics.median(b),
+                                              statistics.median(up)) if a else "-")
+    w("| " + " | ".join(row) + " |")
+    w("")
+
+
 def main(argv):
     if len(argv) != 4:
         sys.stderr.write("usage: bench_report.py RESULTS_JSON CHARTS_DIR IMAGE_PREFIX\n")
@@ -274,6 +324,9 @@ def main(argv):
             row.append(str(dis))
             w("| " + " | ".join(row) + " |")
         w("")
+
+    # --- Build cost -------------------------------------------------------------------------
+    build_cost(w, scenes, names, threads)
 
     # --- Work per ray -------------------------------------------------------------------
     w("## Work per ray\n")

@@ -173,6 +173,36 @@ double per_triangle(double value, std::size_t triangles)
 
 std::string threads_text(unsigned t) { return std::to_string(t) + (t == 1 ? " thread" : " threads"); }
 
+/// A structure and the median of its timed builds.
+struct TimedBuild {
+    std::unique_ptr<BenchStructure> built;
+    double seconds = 0.0;
+};
+
+// Builds `name` `repeats` times (at least once) and keeps the last build and the median time.
+// Every structure is timed the same way: the one built before is released first, so a build
+// reuses memory the process already holds instead of faulting in new pages beside a live
+// structure; and with `warm_up`, one untimed build goes first, so costs a library pays once
+// per process (its thread pool, its first pages) are not charged to one thread count. Without
+// both, Embree's first 1-thread builds on the BMW M6 took 380-410 ms against 315 ms for the
+// later ones, and its speed-up from 1 to 2 threads read 2.4 (docs/BENCH.md, "Build time").
+TimedBuild timed_build(const std::string& name, const MeshView& mesh,
+                       const StructureConfigs& configs, unsigned threads, std::uint32_t repeats,
+                       bool warm_up, std::unique_ptr<BenchStructure> previous = {})
+{
+    previous.reset();
+    if (warm_up) (void)build_structure(name, mesh, configs, threads);
+    TimedBuild out;
+    std::vector<double> times;
+    for (std::uint32_t k = 0; k < std::max<std::uint32_t>(1, repeats); ++k) {
+        out.built.reset();
+        out.built = build_structure(name, mesh, configs, threads);
+        times.push_back(out.built->build_seconds());
+    }
+    out.seconds = median(times);
+    return out;
+}
+
 class Runner {
 public:
     Runner(const BenchPlan& plan, const BenchLog& log) : plan_(plan), log_(log) {}
@@ -211,13 +241,11 @@ public:
             sr.structure = name;
             std::unique_ptr<BenchStructure> built;
             for (unsigned threads : plan_.thread_counts) {
-                std::vector<double> times;
-                for (std::uint32_t k = 0; k < plan_.build_repeats; ++k) {
-                    say(scene.name + ": building " + name + " on " + threads_text(threads));
-                    built = build_structure(name, mesh, plan_.configs, threads);
-                    times.push_back(built->build_seconds());
-                }
-                sr.build_seconds.push_back(median(times));
+                say(scene.name + ": building " + name + " on " + threads_text(threads));
+                TimedBuild timed = timed_build(name, mesh, plan_.configs, threads, plan_.build_repeats,
+                                               threads == plan_.thread_counts.front(), std::move(built));
+                built = std::move(timed.built);
+                sr.build_seconds.push_back(timed.seconds);
             }
             sr.structure_bytes = built->structure_bytes();
             sr.total_bytes = sr.structure_bytes + mesh_bytes(mesh);
@@ -351,12 +379,9 @@ public:
             StructureConfigs configs = plan_.configs;
             configs.split_grid = p.config;
             say("sweep on " + scene.name + ": " + p.parameter + (p.value.empty() ? "" : " = " + p.value));
-            std::vector<double> times;
-            std::unique_ptr<BenchStructure> built;
-            for (std::uint32_t k = 0; k < std::max<std::uint32_t>(1, plan_.build_repeats); ++k) {
-                built = build_structure("splitgrid", mesh, configs, threads);
-                times.push_back(built->build_seconds());
-            }
+            TimedBuild timed = timed_build("splitgrid", mesh, configs, threads, plan_.build_repeats,
+                                           p.parameter == "default");
+            const std::unique_ptr<BenchStructure> built = std::move(timed.built);
             Answers answers;
             std::vector<double> rates;
             for (std::uint32_t k = 0; k < plan_.trace_repeats; ++k)
@@ -365,7 +390,7 @@ public:
             r.parameter = p.parameter;
             r.value = p.value;
             r.config = p.config;
-            r.build_seconds = median(times);
+            r.build_seconds = timed.seconds;
             r.mrays_per_s = median(rates);
             r.bytes_per_triangle = per_triangle(
                 static_cast<double>(built->structure_bytes() + mesh_bytes(mesh)), mesh.triangle_count());
@@ -387,11 +412,12 @@ public:
             const MeshView mesh = scene.view();
             for (const std::string& name : plan_.structures) {
                 say("scale " + std::to_string(mesh.triangle_count()) + " triangles: building " + name);
-                const auto built = build_structure(name, mesh, plan_.configs, threads);
+                TimedBuild timed = timed_build(name, mesh, plan_.configs, threads, 1, true);
+                const std::unique_ptr<BenchStructure> built = std::move(timed.built);
                 ScaleResult r;
                 r.structure = name;
                 r.triangles = mesh.triangle_count();
-                r.build_seconds = built->build_seconds();
+                r.build_seconds = timed.seconds;
                 r.structure_bytes_per_triangle =
                     per_triangle(static_cast<double>(built->structure_bytes()), r.triangles);
                 r.total_bytes_per_triangle = per_triangle(
