@@ -12,7 +12,8 @@ else, warnings and errors, goes to stderr):
                           sphere, per structure, triangle test and padding
   sweep_build_vs_trace.png  the Split Grid parameter sweep: build time against trace speed,
                           marker area proportional to bytes per triangle
-  memory_scaling.png      bytes and references per triangle against scene size
+  memory_scaling.png      bytes, references and peak build memory per triangle against
+                          scene size
 Charts whose data the run did not measure (no sweep, no scale series) are skipped.
 """
 
@@ -180,7 +181,9 @@ def memory_scaling(results, out_dir):
     points = results["scale"]["points"]
     if not points:
         return None
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 5))
+    peaks = all("peak_build_bytes_per_triangle" in p for p in points)
+    fig, axes = plt.subplots(1, 3 if peaks else 2, figsize=(18 if peaks else 12, 5))
+    ax1, ax2 = axes[0], axes[1]
     for name in dict.fromkeys(p["structure"] for p in points):
         sel = sorted((p for p in points if p["structure"] == name), key=lambda p: p["triangles"])
         xs = [p["triangles"] for p in sel]
@@ -189,8 +192,14 @@ def memory_scaling(results, out_dir):
         if name != "embree":
             ax2.plot(xs, [p["references_per_triangle"] for p in sel], "o-", color=colour(name),
                      label=label(name))
-    for ax, title in ((ax1, "structure + mesh (bytes/triangle)"),
-                      (ax2, "triangle references per triangle")):
+        if peaks:
+            axes[2].plot(xs, [p["peak_build_bytes_per_triangle"] for p in sel], "o-",
+                         color=colour(name), label=label(name))
+    panels = [(ax1, "structure + mesh (bytes/triangle)"),
+              (ax2, "triangle references per triangle")]
+    if peaks:
+        panels.append((axes[2], "peak build memory, mesh not counted (bytes/triangle)"))
+    for ax, title in panels:
         ax.set_xscale("log")
         ax.set_xlabel("triangles (%s, patches and arenas)" % results["scale"]["model"])
         ax.set_title(title, fontsize=10)

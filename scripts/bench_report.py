@@ -255,6 +255,45 @@ def build_cost(w, scenes, names, threads):
     w("")
 
 
+def build_memory(w, scenes, names, threads):
+    """Peak build memory per triangle of every builder, and its ratio to Embree's."""
+    if not scenes or "peak_build_bytes" not in scenes[0]["structures"][0]:
+        return  # a run from before sg-bench measured it
+    w("## Peak build memory\n")
+    w("The most bytes one build held at once, per triangle, on %s (the input mesh not "
+      "counted; our structures: every operator new and delete of the build; Embree: its "
+      "memory monitor), with the ratio to Embree's in brackets; and the process's resident "
+      "high-water mark over the same build in MiB (everything sg-bench holds, the scene and "
+      "its workloads included). Medians over the scenes of at least %s triangles.\n"
+      % (thread_count(threads[-1]), "{:,}".format(BUILD_MEDIAN_MIN_TRIANGLES)))
+    head = ["scene"] + ["%s B/tri, process MiB" % label(n) for n in names]
+    w("| " + " | ".join(head) + " |")
+    w("|" + "---|" * len(head))
+    ratios = {n: [] for n in names}
+    for scene in scenes:
+        tris = scene["triangles"]
+        emb = structure(scene, "embree")
+        row = ["%s (%s)" % (scene["scene"], human(tris))]
+        for n in names:
+            s = structure(scene, n)
+            if not s or "peak_build_bytes_per_triangle" not in s:
+                row.append("-")
+                continue
+            cell = "%.1f" % s["peak_build_bytes_per_triangle"]
+            if emb and s is not emb and emb["peak_build_bytes_per_triangle"] > 0:
+                q = s["peak_build_bytes_per_triangle"] / emb["peak_build_bytes_per_triangle"]
+                cell += " (%.2fx)" % q
+                if tris >= BUILD_MEDIAN_MIN_TRIANGLES:
+                    ratios[n].append(q)
+            cell += ", %.0f" % (s["process_high_water_bytes"] / 2 ** 20)
+            row.append(cell)
+        w("| " + " | ".join(row) + " |")
+    row = ["**median ratio to Embree, >= %s triangles**" % human(BUILD_MEDIAN_MIN_TRIANGLES)]
+    row += ["**%.2fx**" % statistics.median(ratios[n]) if ratios[n] else "-" for n in names]
+    w("| " + " | ".join(row) + " |")
+    w("")
+
+
 def main(argv):
     if len(argv) != 4:
         sys.stderr.write("usage: bench_report.py RESULTS_JSON CHARTS_DIR IMAGE_PREFIX\n")
@@ -327,6 +366,7 @@ def main(argv):
 
     # --- Build cost -------------------------------------------------------------------------
     build_cost(w, scenes, names, threads)
+    build_memory(w, scenes, names, threads)
 
     # --- Work per ray -------------------------------------------------------------------
     w("## Work per ray\n")

@@ -88,6 +88,9 @@ Json results_json(const BenchResults& results, const BenchPlan& plan, const RunI
             st["total_bytes_per_triangle"] = per_triangle(sr.total_bytes, scene.triangles);
             st["references"] = sr.references;
             st["references_per_triangle"] = per_triangle(sr.references, scene.triangles);
+            st["peak_build_bytes"] = sr.build_memory.peak_bytes;
+            st["peak_build_bytes_per_triangle"] = per_triangle(sr.build_memory.peak_bytes, scene.triangles);
+            st["process_high_water_bytes"] = sr.build_memory.process_high_water_bytes;
             Json wl = Json::array();
             for (const WorkloadResult& w : sr.workloads)
                 wl.push_back({{"workload", w.workload},
@@ -145,7 +148,10 @@ Json results_json(const BenchResults& results, const BenchPlan& plan, const RunI
                          {"build_seconds", r.build_seconds},
                          {"structure_bytes_per_triangle", r.structure_bytes_per_triangle},
                          {"total_bytes_per_triangle", r.total_bytes_per_triangle},
-                         {"references_per_triangle", r.references_per_triangle}});
+                         {"references_per_triangle", r.references_per_triangle},
+                         {"peak_build_bytes_per_triangle",
+                          per_triangle(r.build_memory.peak_bytes, r.triangles)},
+                         {"process_high_water_bytes", r.build_memory.process_high_water_bytes}});
     j["scale"] = {{"model", results.scale_model}, {"points", scale}};
     return j;
 }
@@ -157,7 +163,8 @@ std::string results_csv(const BenchResults& results, const BenchPlan& plan)
     out += ",structure_bytes_per_triangle,total_bytes_per_triangle,references_per_triangle,"
            "workload,rays,hit_fraction";
     for (unsigned t : plan.thread_counts) out += fmt::format(",mrays_per_s_{}t", t);
-    out += ",oracle_rays,oracle_disagreements,reference_disagreements\n";
+    out += ",oracle_rays,oracle_disagreements,reference_disagreements,"
+           "peak_build_bytes_per_triangle,process_high_water_bytes\n";
     for (const SceneResult& scene : results.scenes)
         for (const StructureResult& sr : scene.structures)
             for (const WorkloadResult& w : sr.workloads) {
@@ -169,8 +176,10 @@ std::string results_csv(const BenchResults& results, const BenchPlan& plan)
                                    per_triangle(sr.references, scene.triangles), w.workload,
                                    w.rays, w.hit_fraction);
                 for (double m : w.mrays_per_s) out += fmt::format(",{:.4f}", m);
-                out += fmt::format(",{},{},{}\n", w.oracle_rays, w.oracle_disagreements,
-                                   w.reference_disagreements);
+                out += fmt::format(",{},{},{},{:.3f},{}\n", w.oracle_rays, w.oracle_disagreements,
+                                   w.reference_disagreements,
+                                   per_triangle(sr.build_memory.peak_bytes, scene.triangles),
+                                   sr.build_memory.process_high_water_bytes);
             }
     return out;
 }

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "build_memory.hpp"
 #include "splitgrid/arena_scene.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/traverse.hpp"
@@ -173,26 +174,36 @@ double per_triangle(double value, std::size_t triangles)
 
 std::string threads_text(unsigned t) { return std::to_string(t) + (t == 1 ? " thread" : " threads"); }
 
-/// A structure and the median of its timed builds.
+/// A structure, the median of its timed builds and the memory of its untimed one.
 struct TimedBuild {
     std::unique_ptr<BenchStructure> built;
     double seconds = 0.0;
+    BuildMemory memory;
 };
 
-// Builds `name` `repeats` times (at least once) and keeps the last build and the median time.
-// Every structure is timed the same way: the one built before is released first, so a build
-// reuses memory the process already holds instead of faulting in new pages beside a live
-// structure; and with `warm_up`, one untimed build goes first, so costs a library pays once
-// per process (its thread pool, its first pages) are not charged to one thread count. Without
-// both, Embree's first 1-thread builds on the BMW M6 took 380-410 ms against 315 ms for the
-// later ones, and its speed-up from 1 to 2 threads read 2.4 (docs/BENCH.md, "Build time").
+// Builds `name` `repeats` times (at least once) on `threads` threads and keeps the last build
+// and the median time. Every structure is timed the same way: the one built before is
+// released first, so a build reuses memory the process already holds instead of faulting in
+// new pages beside a live structure; and with `warm_up_threads` > 0, one untimed build on that
+// many threads goes first, so costs a library pays once per process (its thread pool, its
+// first pages) are not charged to one thread count. Without both, Embree's first 1-thread
+// builds on the BMW M6 took 380-410 ms against 315 ms for the later ones, and its speed-up
+// from 1 to 2 threads read 2.34 (docs/BENCH.md, "Build time: first builds"). The untimed build
+// is the one whose peak memory is measured (build_memory.hpp): counting every allocation
+// would slow the timed ones.
 TimedBuild timed_build(const std::string& name, const MeshView& mesh,
                        const StructureConfigs& configs, unsigned threads, std::uint32_t repeats,
-                       bool warm_up, std::unique_ptr<BenchStructure> previous = {})
+                       unsigned warm_up_threads, std::unique_ptr<BenchStructure> previous = {})
 {
     previous.reset();
-    if (warm_up) (void)build_structure(name, mesh, configs, threads);
     TimedBuild out;
+    if (warm_up_threads > 0) {
+        const BuildMemoryWindow window;
+        const auto warm = build_structure(name, mesh, configs, warm_up_threads);
+        out.memory.peak_bytes = warm->own_build_peak_bytes().value_or(window.peak_bytes());
+        if (window.high_water_reset())
+            out.memory.process_high_water_bytes = BuildMemoryWindow::process_high_water_bytes();
+    }
     std::vector<double> times;
     for (std::uint32_t k = 0; k < std::max<std::uint32_t>(1, repeats); ++k) {
         out.built.reset();
@@ -242,10 +253,14 @@ public:
             std::unique_ptr<BenchStructure> built;
             for (unsigned threads : plan_.thread_counts) {
                 say(scene.name + ": building " + name + " on " + threads_text(threads));
+                // The untimed build goes before the first thread count, on the last (the one the
+                // targets are read on), and its memory is the structure's peak build memory.
+                const bool first = threads == plan_.thread_counts.front();
                 TimedBuild timed = timed_build(name, mesh, plan_.configs, threads, plan_.build_repeats,
-                                               threads == plan_.thread_counts.front(), std::move(built));
+                                               first ? plan_.thread_counts.back() : 0, std::move(built));
                 built = std::move(timed.built);
                 sr.build_seconds.push_back(timed.seconds);
+                if (first) sr.build_memory = timed.memory;
             }
             sr.structure_bytes = built->structure_bytes();
             sr.total_bytes = sr.structure_bytes + mesh_bytes(mesh);
@@ -380,7 +395,7 @@ public:
             configs.split_grid = p.config;
             say("sweep on " + scene.name + ": " + p.parameter + (p.value.empty() ? "" : " = " + p.value));
             TimedBuild timed = timed_build("splitgrid", mesh, configs, threads, plan_.build_repeats,
-                                           p.parameter == "default");
+                                           p.parameter == "default" ? threads : 0);
             const std::unique_ptr<BenchStructure> built = std::move(timed.built);
             Answers answers;
             std::vector<double> rates;
@@ -412,12 +427,13 @@ public:
             const MeshView mesh = scene.view();
             for (const std::string& name : plan_.structures) {
                 say("scale " + std::to_string(mesh.triangle_count()) + " triangles: building " + name);
-                TimedBuild timed = timed_build(name, mesh, plan_.configs, threads, 1, true);
+                TimedBuild timed = timed_build(name, mesh, plan_.configs, threads, 1, threads);
                 const std::unique_ptr<BenchStructure> built = std::move(timed.built);
                 ScaleResult r;
                 r.structure = name;
                 r.triangles = mesh.triangle_count();
                 r.build_seconds = timed.seconds;
+                r.build_memory = timed.memory;
                 r.structure_bytes_per_triangle =
                     per_triangle(static_cast<double>(built->structure_bytes()), r.triangles);
                 r.total_bytes_per_triangle = per_triangle(

@@ -61,9 +61,19 @@ struct WorkloadResult {
 };
 
 /// One structure on one scene.
+/// Memory of one build (build_memory.hpp), on the plan's last thread count.
+struct BuildMemory {
+    /// Highest number of bytes the build held at once; the input mesh not counted.
+    std::size_t peak_bytes = 0;
+    /// The process's resident high-water mark during the build (everything sg-bench holds:
+    /// meshes and workloads too); 0 where it could not be reset before the build.
+    std::size_t process_high_water_bytes = 0;
+};
+
 struct StructureResult {
     std::string structure;
     std::vector<double> build_seconds;  ///< per thread count, median of builds
+    BuildMemory build_memory;
     std::size_t structure_bytes = 0;
     std::size_t total_bytes = 0;        ///< structure + the mesh's vertex and index arrays
     std::size_t references = 0;
@@ -117,6 +127,7 @@ struct ScaleResult {
     std::string structure;
     std::size_t triangles = 0;
     double build_seconds = 0.0;  ///< last thread count of the plan, one build
+    BuildMemory build_memory;
     double structure_bytes_per_triangle = 0.0;
     double total_bytes_per_triangle = 0.0;
     double references_per_triangle = 0.0;

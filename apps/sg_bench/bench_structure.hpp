@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -41,6 +42,13 @@ public:
     /// memory monitor counts, less its own copy of the vertices). Everything needed to trace
     /// is this plus the mesh: 12 bytes per vertex and 12 per triangle for every structure.
     [[nodiscard]] virtual std::size_t structure_bytes() const = 0;
+    /// Highest number of bytes its build held at once, where the structure measures it itself
+    /// (Embree: the highest sum of its memory monitor over the build, less its copy of the
+    /// vertices); empty for ours, whose allocations build_memory.hpp counts.
+    [[nodiscard]] virtual std::optional<std::size_t> own_build_peak_bytes() const
+    {
+        return std::nullopt;
+    }
     /// Triangle references held by the structure (for Embree: 0, not exposed).
     [[nodiscard]] virtual std::size_t reference_count() const = 0;
     /// Whether `variant` can be run (Embree runs only its own test: the default variant).

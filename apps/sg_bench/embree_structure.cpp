@@ -1,5 +1,6 @@
 // Intel Embree 3 as the outside reference of sg-bench: the same mesh and the same rays through
-// rtcIntersect1 / rtcOccluded1, memory counted by Embree's own memory monitor.
+// rtcIntersect1 / rtcOccluded1, memory (held, and the peak of a build) counted by Embree's own
+// memory monitor.
 
 #include <algorithm>
 #include <atomic>
@@ -18,11 +19,21 @@
 namespace sg::bench {
 namespace {
 
-// Embree reports each allocation and release (negative bytes) here; the running sum is the
-// memory the device holds.
+// The bytes an Embree device holds: the running sum of what its memory monitor reports, and
+// the highest value the sum has reached.
+struct DeviceBytes {
+    std::atomic<long long> held{0};
+    std::atomic<long long> peak{0};
+};
+
+// Embree reports each allocation and release (negative bytes) here.
 bool monitor(void* user, ssize_t bytes, bool /*post*/)
 {
-    static_cast<std::atomic<long long>*>(user)->fetch_add(static_cast<long long>(bytes));
+    auto& d = *static_cast<DeviceBytes*>(user);
+    const long long now = d.held.fetch_add(static_cast<long long>(bytes)) + bytes;
+    long long seen = d.peak.load();
+    while (now > seen && !d.peak.compare_exchange_weak(seen, now)) {
+    }
     return true;
 }
 
@@ -35,6 +46,8 @@ public:
         if (!device_) throw ConfigError("Embree: rtcNewDevice failed");
         rtcSetDeviceMemoryMonitorFunction(device_, monitor, &bytes_);
 
+        const long long before = bytes_.held.load();
+        bytes_.peak.store(before);
         const auto start = std::chrono::steady_clock::now();
         scene_ = rtcNewScene(device_);
         rtcSetSceneFlags(scene_, robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
@@ -58,6 +71,8 @@ public:
         tbb::task_arena arena(threads == 0 ? tbb::task_arena::automatic : static_cast<int>(threads));
         arena.execute([&] { rtcCommitScene(scene_); });
         build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const long long peak = bytes_.peak.load() - before - static_cast<long long>(vertex_buffer_bytes_);
+        build_peak_bytes_ = static_cast<std::size_t>(std::max(0LL, peak));
         if (rtcGetDeviceError(device_) != RTC_ERROR_NONE)
             throw InputError("Embree: the scene could not be built");
     }
@@ -72,9 +87,10 @@ public:
     double build_seconds() const override { return build_seconds_; }
     // The BVH and Embree's other bookkeeping, without its copy of the vertices (which
     // trace_mesh_bytes counts in its place of the mesh's own vertex array).
+    std::optional<std::size_t> own_build_peak_bytes() const override { return build_peak_bytes_; }
     std::size_t structure_bytes() const override
     {
-        const long long total = bytes_.load();
+        const long long total = bytes_.held.load();
         const auto held = static_cast<std::size_t>(std::max(0LL, total));
         return held > vertex_buffer_bytes_ ? held - vertex_buffer_bytes_ : 0;
     }
@@ -134,8 +150,9 @@ private:
 
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
-    std::atomic<long long> bytes_{0};
+    DeviceBytes bytes_;
     std::size_t vertex_buffer_bytes_ = 0;
+    std::size_t build_peak_bytes_ = 0;
     double build_seconds_ = 0.0;
 };
 

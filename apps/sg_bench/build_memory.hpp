@@ -1,0 +1,40 @@
+#pragma once
+
+#include <cstddef>
+
+/// Peak memory of one build, measured the same way for every structure sg-bench builds.
+///
+/// Our structures allocate through operator new (std::vector, std::unique_ptr): sg-bench
+/// replaces the global operator new and delete with ones that, while a BuildMemoryWindow is
+/// open, add and subtract each block's usable size (malloc_usable_size) and keep the highest
+/// sum. Embree allocates through its own allocator and reports every allocation to its memory
+/// monitor callback, which embree_structure.cpp keeps the highest sum of in the same way. The
+/// input mesh is allocated before the window opens and is counted for nobody. Counting costs
+/// two atomic operations per allocation, so it runs on an untimed build only.
+namespace sg::bench {
+
+/// Opens a counting window over the whole process: the sum and its peak start at 0, and the
+/// kernel's record of the process's resident high-water mark is reset (/proc/self/clear_refs),
+/// where Linux allows it. One window at a time.
+class BuildMemoryWindow {
+public:
+    BuildMemoryWindow() noexcept;
+    ~BuildMemoryWindow();
+    BuildMemoryWindow(const BuildMemoryWindow&) = delete;
+    BuildMemoryWindow& operator=(const BuildMemoryWindow&) = delete;
+
+    /// Highest sum of the bytes allocated through operator new and not yet freed since the
+    /// window opened (blocks freed in the window that were allocated before it lower the
+    /// sum; a build frees none of those).
+    [[nodiscard]] std::size_t peak_bytes() const noexcept;
+    /// The process's resident high-water mark (VmHWM) since the window opened, or since the
+    /// process started where it could not be reset; 0 where /proc is not readable.
+    [[nodiscard]] static std::size_t process_high_water_bytes() noexcept;
+    /// True if the high-water mark was reset when the window opened.
+    [[nodiscard]] bool high_water_reset() const noexcept { return high_water_reset_; }
+
+private:
+    bool high_water_reset_ = false;
+};
+
+}  // namespace sg::bench
