@@ -199,6 +199,9 @@ def memory_scaling(results, out_dir):
               (ax2, "triangle references per triangle")]
     if peaks:
         panels.append((axes[2], "peak build memory, mesh not counted (bytes/triangle)"))
+    if peaks:
+        # A small scene's fixed costs would flatten every other point on a linear axis.
+        axes[2].set_yscale("log")
     for ax, title in panels:
         ax.set_xscale("log")
         ax.set_xlabel("triangles (%s, patches and arenas)" % results["scale"]["model"])

@@ -214,13 +214,17 @@ def build_cost(w, scenes, names, threads):
     """Microseconds per triangle and thread of every builder, and its speed-up over threads."""
     first, last = threads[0], threads[-1]
     w("## Build cost per triangle and thread\n")
+    # Runs that measure peak memory also time every build after an untimed one.
+    warm = bool(scenes) and all("peak_build_bytes" in s for s in scenes[0]["structures"])
     w("Build time x threads / triangles, in microseconds, on %s and on %s (a builder that "
       "scales perfectly has the same figure on both), and the speed-up from %s to %s "
-      "(build time on %s over build time on %s). Every timed build follows an untimed one "
-      "of the same structure, with the structure built before released (BENCH.md, \"Build "
-      "time\"). Medians over the scenes of at least %s triangles.\n"
+      "(build time on %s over build time on %s).%s Medians over the scenes of at least %s "
+      "triangles.\n"
       % (thread_count(first), thread_count(last), thread_count(first), thread_count(last),
-         thread_count(first), thread_count(last), "{:,}".format(BUILD_MEDIAN_MIN_TRIANGLES)))
+         thread_count(first), thread_count(last),
+         " Every timed build follows an untimed one of the same structure, with the structure "
+         "built before released (BENCH.md, \"What is measured\")." if warm else "",
+         "{:,}".format(BUILD_MEDIAN_MIN_TRIANGLES)))
     head = ["scene"] + ["%s us/tri.thread %st / %st, speed-up" % (label(n), first, last)
                         for n in names]
     w("| " + " | ".join(head) + " |")
@@ -257,7 +261,7 @@ def build_cost(w, scenes, names, threads):
 
 def build_memory(w, scenes, names, threads):
     """Peak build memory per triangle of every builder, and its ratio to Embree's."""
-    if not scenes or "peak_build_bytes" not in scenes[0]["structures"][0]:
+    if not scenes or not all("peak_build_bytes" in s for s in scenes[0]["structures"]):
         return  # a run from before sg-bench measured it
     w("## Peak build memory\n")
     w("The most bytes one build held at once, per triangle, on %s (the input mesh not "
@@ -285,12 +289,75 @@ def build_memory(w, scenes, names, threads):
                 cell += " (%.2fx)" % q
                 if tris >= BUILD_MEDIAN_MIN_TRIANGLES:
                     ratios[n].append(q)
-            cell += ", %.0f" % (s["process_high_water_bytes"] / 2 ** 20)
+            hwm = s["process_high_water_bytes"]
+            cell += ", %.0f" % (hwm / 2 ** 20) if hwm else ", -"
             row.append(cell)
         w("| " + " | ".join(row) + " |")
     row = ["**median ratio to Embree, >= %s triangles**" % human(BUILD_MEDIAN_MIN_TRIANGLES)]
     row += ["**%.2fx**" % statistics.median(ratios[n]) if ratios[n] else "-" for n in names]
     w("| " + " | ".join(row) + " |")
+    w("")
+
+
+# The targets of the issue "Build fast": (label, figure, the figure before it (the 2-thread
+# column of the full run that preceded it), its goal, the goal beyond it). Build speed is
+# 1 / build time, so "build speed / X" is X's build time over the Split Grid's.
+BUILD_TARGETS = [
+    ("Split Grid build speed / Embree MEDIUM", "emb", "0.18", ">= 1.0", ">= Embree LOW"),
+    ("Split Grid build speed / our BVH", "bvh", "0.64", ">= 2.0", ""),
+    ("speed-up from %s to %s threads, every scene (range)", "scaling", "1.65-1.99",
+     ">= 1.8", ""),
+    ("peak build memory / Embree's peak", "peak", "not measured", "<= 1.0", "<= 0.5"),
+    ("largest arena: build time / Embree MEDIUM's", "arena", "4.6", "<= 1.0", ""),
+]
+
+
+def build_targets(w, scenes, threads):
+    """The targets table of "Build fast", for both presets of the Split Grid."""
+    t = threads[-1]
+    big = [s for s in scenes if s["triangles"] >= BUILD_MEDIAN_MIN_TRIANGLES]
+    arenas = [s for s in scenes if ARENA_SOURCE in s["source"]]
+    arena = max(arenas, key=lambda s: s["triangles"]) if arenas else None
+    w("## Targets of \"Build fast\"\n")
+    w("Medians over the %d scenes of at least %s triangles, on %s; the targets hold for the "
+      "default Split Grid, the poster preset's figures are beside them. Speed-ups are build "
+      "time on %s over build time on %s.%s\n"
+      % (len(big), "{:,}".format(BUILD_MEDIAN_MIN_TRIANGLES), thread_count(t),
+         thread_count(threads[0]), thread_count(t),
+         " Largest arena: %s (%s triangles)." % (arena["scene"], "{:,}".format(arena["triangles"]))
+         if arena else ""))
+
+    def figure(name, key):
+        rows = []
+        for scene in (big if key != "arena" else [arena] if arena else []):
+            sg, emb, bvh = (structure(scene, n) for n in (name, "embree", "bvh"))
+            if not sg:
+                continue
+            b = sg["build_seconds"]
+            if key in ("emb", "arena") and emb and t in b:
+                q = emb["build_seconds"][t] / b[t]
+                rows.append(q if key == "emb" else 1 / q)
+            elif key == "bvh" and bvh and t in b:
+                rows.append(bvh["build_seconds"][t] / b[t])
+            elif key == "scaling" and threads[0] in b and t in b and t != threads[0]:
+                rows.append(b[threads[0]] / b[t])
+            elif key == "peak" and emb and "peak_build_bytes" in sg and emb["peak_build_bytes"]:
+                rows.append(sg["peak_build_bytes"] / emb["peak_build_bytes"])
+        if not rows:
+            return "-"
+        if key == "scaling":
+            return "%.2f-%.2f" % (min(rows), max(rows))
+        return fmt(statistics.median(rows))
+
+    head = ["figure", "before", "now: Split Grid", "now: poster preset", "this issue",
+            "beyond"]
+    w("| " + " | ".join(head) + " |")
+    w("|" + "---|" * len(head))
+    for name, key, filed, goal, beyond in BUILD_TARGETS:
+        if "%s" in name:
+            name = name % (threads[0], t)
+        w("| %s | %s | %s | %s | **%s** | %s |" % (name, filed, figure("splitgrid", key),
+                                                  figure("splitgrid_poster", key), goal, beyond))
     w("")
 
 
@@ -457,9 +524,10 @@ def main(argv):
       "Grid time: median %.2f |" % (tn, share(two_thirds), median(bvh_ratios)))
     w("")
 
-    # --- Targets ("Trace fast") -----------------------------------------------------------
+    # --- Targets ("Trace fast", "Build fast") ----------------------------------------------
     if have_embree:
         targets(w, sg_scenes, threads, median)
+    build_targets(w, scenes, threads)
 
     # --- Correctness --------------------------------------------------------------------
     w("## Correctness\n")

@@ -186,11 +186,9 @@ struct TimedBuild {
 // released first, so a build reuses memory the process already holds instead of faulting in
 // new pages beside a live structure; and with `warm_up_threads` > 0, one untimed build on that
 // many threads goes first, so costs a library pays once per process (its thread pool, its
-// first pages) are not charged to one thread count. Without both, Embree's first 1-thread
-// builds on the BMW M6 took 380-410 ms against 315 ms for the later ones, and its speed-up
-// from 1 to 2 threads read 2.34 (docs/BENCH.md, "Build time: first builds"). The untimed build
-// is the one whose peak memory is measured (build_memory.hpp): counting every allocation
-// would slow the timed ones.
+// first pages) are not charged to one thread count (docs/BENCH.md, "Build time: first
+// builds", has the figures). The untimed build is the one whose peak memory is measured
+// (build_memory.hpp): counting every allocation would slow the timed ones.
 TimedBuild timed_build(const std::string& name, const MeshView& mesh,
                        const StructureConfigs& configs, unsigned threads, std::uint32_t repeats,
                        unsigned warm_up_threads, std::unique_ptr<BenchStructure> previous = {})
@@ -230,9 +228,11 @@ public:
 
         // The workloads come from the first structure (the Split Grid unless the plan says
         // otherwise); every structure then traces the very same rays.
+        // That structure is released once they are made, so that no build below runs beside it.
         const auto start = Clock::now();
-        const auto reference = build_structure(plan_.structures.front(), mesh, plan_.configs, 0);
-        std::vector<Workload> workloads = make_scene_workloads(mesh, *reference, plan_.sizes, plan_.seed);
+        std::vector<Workload> workloads = make_scene_workloads(
+            mesh, *build_structure(plan_.structures.front(), mesh, plan_.configs, 0), plan_.sizes,
+            plan_.seed);
         result.workload_seconds = seconds_since(start);
         for (const Workload& w : workloads) {
             result.workload_names.push_back(w.name);

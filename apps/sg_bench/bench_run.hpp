@@ -60,7 +60,6 @@ struct WorkloadResult {
     double triangles_per_ray = 0.0;
 };
 
-/// One structure on one scene.
 /// Memory of one build (build_memory.hpp), on the plan's last thread count.
 struct BuildMemory {
     /// Highest number of bytes the build held at once; the input mesh not counted.
@@ -70,6 +69,7 @@ struct BuildMemory {
     std::size_t process_high_water_bytes = 0;
 };
 
+/// One structure on one scene.
 struct StructureResult {
     std::string structure;
     std::vector<double> build_seconds;  ///< per thread count, median of builds

@@ -61,6 +61,7 @@ BuildMemoryWindow::BuildMemoryWindow() noexcept
 {
     current.store(0);
     peak.store(0);
+    (void)malloc_trim(0);
     // "5" resets the peak resident set size the kernel reports as VmHWM (Linux 4.0 on).
     if (std::FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
         high_water_reset_ = std::fputs("5", f) >= 0;

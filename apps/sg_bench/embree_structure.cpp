@@ -85,9 +85,9 @@ public:
     EmbreeStructure& operator=(const EmbreeStructure&) = delete;
 
     double build_seconds() const override { return build_seconds_; }
+    std::optional<std::size_t> own_build_peak_bytes() const override { return build_peak_bytes_; }
     // The BVH and Embree's other bookkeeping, without its copy of the vertices (which
     // trace_mesh_bytes counts in its place of the mesh's own vertex array).
-    std::optional<std::size_t> own_build_peak_bytes() const override { return build_peak_bytes_; }
     std::size_t structure_bytes() const override
     {
         const long long total = bytes_.held.load();

@@ -406,8 +406,9 @@ int main(int argc, char** argv)
         app,
         "Measures the Split Grid (built from the build flags, and as splitgrid_poster with the\n"
         "poster preset applied over them) against a uniform grid, a kd-tree, a BVH and Intel\n"
-        "Embree on the same scenes and the same rays: build time (median of --build-repeats builds) on\n"
-        "each thread count, memory (structure, and structure + mesh, per triangle), Mrays/s\n"
+        "Embree on the same scenes and the same rays: build time (median of --build-repeats builds,\n"
+        "after one untimed build) on each thread count, memory (structure, and structure + mesh,\n"
+        "per triangle, and the most a build held at once), Mrays/s\n"
         "(median of --trace-repeats passes) for four workloads, and correctness (brute force\n"
         "on a sample of every workload, and every ray against the first structure). Then rays\n"
         "from inside a closed sphere for each triangle test and padding (leaks per million),\n"
