@@ -199,7 +199,6 @@ def memory_scaling(results, out_dir):
               (ax2, "triangle references per triangle")]
     if peaks:
         panels.append((axes[2], "peak build memory, mesh not counted (bytes/triangle)"))
-    if peaks:
         # A small scene's fixed costs would flatten every other point on a linear axis.
         axes[2].set_yscale("log")
     for ax, title in panels:

@@ -210,12 +210,17 @@ def targets(w, scenes, threads, median):
 BUILD_MEDIAN_MIN_TRIANGLES = 100000
 
 
+def measures_build_memory(scenes):
+    """True for a run that measured peak build memory (and so timed every build after an
+    untimed one)."""
+    return bool(scenes) and all("peak_build_bytes" in s for s in scenes[0]["structures"])
+
+
 def build_cost(w, scenes, names, threads):
     """Microseconds per triangle and thread of every builder, and its speed-up over threads."""
     first, last = threads[0], threads[-1]
     w("## Build cost per triangle and thread\n")
-    # Runs that measure peak memory also time every build after an untimed one.
-    warm = bool(scenes) and all("peak_build_bytes" in s for s in scenes[0]["structures"])
+    warm = measures_build_memory(scenes)
     w("Build time x threads / triangles, in microseconds, on %s and on %s (a builder that "
       "scales perfectly has the same figure on both), and the speed-up from %s to %s "
       "(build time on %s over build time on %s).%s Medians over the scenes of at least %s "
@@ -261,7 +266,7 @@ def build_cost(w, scenes, names, threads):
 
 def build_memory(w, scenes, names, threads):
     """Peak build memory per triangle of every builder, and its ratio to Embree's."""
-    if not scenes or not all("peak_build_bytes" in s for s in scenes[0]["structures"]):
+    if not measures_build_memory(scenes):
         return  # a run from before sg-bench measured it
     w("## Peak build memory\n")
     w("The most bytes one build held at once, per triangle, on %s (the input mesh not "

@@ -20,10 +20,7 @@ void on_allocate(void* p) noexcept
 {
     if (!p || !counting.load(std::memory_order_relaxed)) return;
     const auto size = static_cast<long long>(malloc_usable_size(p));
-    const long long now = current.fetch_add(size, std::memory_order_relaxed) + size;
-    long long seen = peak.load(std::memory_order_relaxed);
-    while (now > seen && !peak.compare_exchange_weak(seen, now, std::memory_order_relaxed)) {
-    }
+    raise_peak(peak, current.fetch_add(size, std::memory_order_relaxed) + size);
 }
 
 void on_free(void* p) noexcept

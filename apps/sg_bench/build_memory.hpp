@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 
 /// Peak memory of one build, measured the same way for every structure sg-bench builds.
@@ -18,6 +19,14 @@
 /// per-thread sweep buffers, about 8 bytes per triangle of the largest node sorted so far);
 /// where such a buffer grows in the window, the free of its older block lowers the sum.
 namespace sg::bench {
+
+/// Raises `peak` to `value` if it is below (concurrent callers: the highest value wins).
+inline void raise_peak(std::atomic<long long>& peak, long long value) noexcept
+{
+    long long seen = peak.load(std::memory_order_relaxed);
+    while (value > seen && !peak.compare_exchange_weak(seen, value, std::memory_order_relaxed)) {
+    }
+}
 
 /// Opens a counting window over the whole process: the sum and its peak start at 0, free heap
 /// is returned to the system (malloc_trim), and the kernel's record of the process's resident

@@ -14,6 +14,7 @@
 #include <tbb/task_arena.h>
 
 #include "bench_structure.hpp"
+#include "build_memory.hpp"
 #include "splitgrid/error.hpp"
 
 namespace sg::bench {
@@ -30,10 +31,7 @@ struct DeviceBytes {
 bool monitor(void* user, ssize_t bytes, bool /*post*/)
 {
     auto& d = *static_cast<DeviceBytes*>(user);
-    const long long now = d.held.fetch_add(static_cast<long long>(bytes)) + bytes;
-    long long seen = d.peak.load();
-    while (now > seen && !d.peak.compare_exchange_weak(seen, now)) {
-    }
+    raise_peak(d.peak, d.held.fetch_add(static_cast<long long>(bytes)) + bytes);
     return true;
 }
 
