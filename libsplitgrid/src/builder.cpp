@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <span>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -76,19 +77,53 @@ struct Split {
     std::vector<std::uint32_t> counts;  // triangles per cell
 };
 
-// The tree as the recursive build makes it; flattened into SplitGrid arrays afterwards, in a
-// fixed order, which is what makes the output independent of the thread count.
+// A subtree built by one thread, in its final depth-first pre-order, with indices local to
+// its own arrays: flatten() appends it to the grid and shifts them. Every subtree of fewer
+// than parallel_grain triangles is built this way, without allocating per node.
+struct Fragment {
+    CellRef root;
+    std::vector<GridNode> nodes;
+    std::vector<CellRef> cells;
+    std::vector<TriangleRef> triangle_refs;
+};
+
+// The top of the tree, where nodes are built in parallel; flattened into SplitGrid arrays
+// afterwards, in a fixed order, which is what makes the output independent of the thread
+// count. Below parallel_grain triangles a cell holds a Fragment.
 struct BuiltNode;
 struct BuiltCell {
     CellKind kind = CellKind::Empty;
     std::vector<std::uint32_t> triangles;  // leaf
     std::unique_ptr<BuiltNode> node;       // inner
+    std::unique_ptr<Fragment> fragment;    // a serially built subtree (kind is then Inner)
 };
 struct BuiltNode {
     int axis = 0;
     float lo = 0.0f;
     float hi = 0.0f;
     std::vector<BuiltCell> cells;
+};
+
+// One-cell nodes around a cell (see Builder::choose_bounds): at most one per axis.
+struct Bound {
+    int axis = 0;
+    float lo = 0.0f;
+    float hi = 0.0f;
+};
+struct Bounds {
+    std::array<Bound, 3> items;
+    std::uint32_t count = 0;
+};
+
+// Working memory of one serially built subtree, reused by all its nodes: the triangles and
+// extents of every node on the path from the subtree's root are stacked in `tris` and
+// `extents` (a node's cells after its own range), the cell counts of those nodes in
+// `cell_counts`; `split` is the candidate split of the node at hand.
+struct Scratch {
+    std::vector<std::uint32_t> tris;
+    std::vector<TriExtent> extents;
+    std::vector<std::uint32_t> cell_counts;
+    Split split;
 };
 
 class Builder {
@@ -111,18 +146,16 @@ public:
     {
         BuiltCell cell;
         if (tris.empty()) return cell;
+        if (tris.size() < parallel_grain)
+            return build_fragment(box, std::move(tris), std::move(extents), depth, weight,
+                                  kept_all);
         if (depth > config_.max_depth ||
             (!config_.bounding_nodes && tris.size() <= config_.leaf_size))
             return make_leaf(std::move(tris), weight);
 
         const std::size_t n = tris.size();
         extents.resize(n);
-        const Aabbd clip_box = Aabbd::from(box).padded(pad_);
-        auto clip_range = [&](std::size_t begin, std::size_t end) {
-            for (std::size_t k = begin; k < end; ++k)
-                if (!extents[k].known) extents[k] = clipped_extent(tris[k], clip_box);
-        };
-        run(n, clip_range);
+        clip_unknown(box, tris.data(), extents.data(), n);
 
         // Tight box of the clipped triangles (min/max are exact, so any reduction order
         // gives the same box).
@@ -130,27 +163,15 @@ public:
         if (tight.is_empty()) return make_leaf(std::move(tris), weight);
         if (n <= config_.leaf_size || kept_all >= kept_all_limit)
             return make_bounded_leaf(box, tight, std::move(tris), depth, weight);
-        // Axes by decreasing extent of the clipped triangles: the longest first, the
-        // others only if it makes no progress.
-        std::array<int, 3> axes{0, 1, 2};
-        std::stable_sort(axes.begin(), axes.end(),
-                         [&](int a, int b) { return tight.extent(a) > tight.extent(b); });
         Split split;
-        bool found = false;
-        for (int axis : axes) {
-            if (!(tight.extent(axis) > 0.0f)) break;
-            if (try_split(box, tight, axis, extents, split)) {
-                found = true;
-                break;
-            }
-        }
-        if (!found) return make_bounded_leaf(box, tight, std::move(tris), depth, weight);
+        if (!find_split(box, tight, extents, split))
+            return make_bounded_leaf(box, tight, std::move(tris), depth, weight);
         const int axis = split.axis;
         // One-cell nodes on the other axes where the triangles leave much of the box empty;
         // the node and its cells then lie in the narrowed box.
         Aabb bounded = box;
-        const std::vector<Bound> bounds = choose_bounds(bounded, tight, axis, depth);
-        const std::uint32_t child_depth = depth + 1 + static_cast<std::uint32_t>(bounds.size());
+        const Bounds bounds = choose_bounds(bounded, tight, axis, depth);
+        const std::uint32_t child_depth = depth + 1 + bounds.count;
         const std::uint32_t resolution = split.resolution;
         const CellMath cm(split.lo, split.hi, resolution);
         std::size_t total_refs = 0;
@@ -193,39 +214,199 @@ public:
                                             child_kept_all);
             }
         };
-        if (n >= parallel_grain)
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, resolution, 1),
-                              [&](const tbb::blocked_range<std::size_t>& r) {
-                                  build_children(r.begin(), r.end());
-                              });
-        else
-            build_children(0, resolution);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, resolution, 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              build_children(r.begin(), r.end());
+                          });
         cell.kind = CellKind::Inner;
         cell.node = std::move(node);
         return wrap(bounds, std::move(cell));
     }
 
 private:
-    // A one-cell node: bounding planes on one axis around a cell's contents.
-    struct Bound {
-        int axis = 0;
-        float lo = 0.0f;
-        float hi = 0.0f;
+    // A cell of fewer than parallel_grain triangles: its whole subtree, built by this thread.
+    BuiltCell build_fragment(const Aabb& box, std::vector<std::uint32_t> tris,
+                             std::vector<TriExtent> extents, std::uint32_t depth, double weight,
+                             std::uint32_t kept_all)
+    {
+        const std::size_t n = tris.size();
+        Scratch scratch;
+        scratch.tris = std::move(tris);
+        scratch.extents = std::move(extents);
+        scratch.extents.resize(n);
+        BuiltCell cell;
+        cell.kind = CellKind::Inner;
+        cell.fragment = std::make_unique<Fragment>();
+        Fragment& fragment = *cell.fragment;
+        fragment.root = build_serial(box, 0, n, n, depth, weight, kept_all, scratch, fragment);
+        // Fragments wait for flatten() until the whole tree is built: no spare capacity.
+        fragment.nodes.shrink_to_fit();
+        fragment.cells.shrink_to_fit();
+        fragment.triangle_refs.shrink_to_fit();
+        return cell;
+    }
+
+    // build_cell for one thread: the same decisions, made for the triangles at
+    // [begin, begin + n) of the scratch stacks, written to `out` in depth-first pre-order
+    // (a node's record, its cells as one block, then its children), which is the order
+    // flatten() gives the parallel part. `top` is the first free place on the stacks; the
+    // children's triangles are stacked there, cell after cell.
+    CellRef build_serial(const Aabb& box, std::size_t begin, std::size_t n, std::size_t top,
+                         std::uint32_t depth, double weight, std::uint32_t kept_all,
+                         Scratch& s, Fragment& out)
+    {
+        if (n == 0) return CellRef::make_empty();
+        if (depth > config_.max_depth || (!config_.bounding_nodes && n <= config_.leaf_size))
+            return emit_leaf(s, begin, n, weight, out);
+        clip_unknown(box, s.tris.data() + begin, s.extents.data() + begin, n);
+        const std::span<const TriExtent> extents(s.extents.data() + begin, n);
+        const Aabb tight = reduce_box(extents);
+        if (tight.is_empty()) return emit_leaf(s, begin, n, weight, out);
+        if (n <= config_.leaf_size || kept_all >= kept_all_limit)
+            return emit_bounded_leaf(box, tight, s, begin, n, depth, weight, out);
+        if (!find_split(box, tight, extents, s.split))
+            return emit_bounded_leaf(box, tight, s, begin, n, depth, weight, out);
+        const Split& split = s.split;
+        const int axis = split.axis;
+        Aabb bounded = box;
+        const Bounds bounds = choose_bounds(bounded, tight, axis, depth);
+        const std::uint32_t child_depth = depth + 1 + bounds.count;
+        const std::uint32_t resolution = split.resolution;
+        const CellMath cm(split.lo, split.hi, resolution);
+
+        // The cells' triangles, stacked from `top` in cell order (see build_cell on which
+        // extents are kept). The counts go on their own stack: `split` is reused below.
+        const std::size_t counts_at = s.cell_counts.size();
+        s.cell_counts.insert(s.cell_counts.end(), split.counts.begin(), split.counts.end());
+        std::size_t child_top = top;
+        for (std::uint32_t c = 0; c < resolution; ++c) {
+            const std::uint32_t count = split.counts[c];
+            s.split.counts[c] = static_cast<std::uint32_t>(child_top - top);  // now a cursor
+            child_top += count;
+        }
+        if (s.tris.size() < child_top) {
+            s.tris.resize(child_top);
+            s.extents.resize(child_top);
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+            const bool single_cell = split.first[k] == split.last[k];
+            for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c) {
+                const std::size_t to = top + s.split.counts[c]++;
+                s.tris[to] = s.tris[begin + k];
+                s.extents[to] = single_cell ? s.extents[begin + k] : TriExtent{};
+            }
+        }
+        const std::size_t total_refs = child_top - top;
+
+        Chain chain;
+        emit_bounds(bounds, chain, out);
+        const std::uint32_t first_cell = chain.add_node(axis, cm.lo, cm.hi, resolution, out);
+        std::size_t child_begin = top;
+        for (std::uint32_t c = 0; c < resolution; ++c) {
+            const std::size_t count = s.cell_counts[counts_at + c];
+            const Aabb child = cm.cell_box(bounded, axis, c);
+            const double share =
+                weight * static_cast<double>(count) / static_cast<double>(total_refs);
+            const std::uint32_t child_kept_all = count == n ? kept_all + 1 : 0;
+            out.cells[first_cell + c] = build_serial(child, child_begin, count, child_top,
+                                                     child_depth, share, child_kept_all, s, out);
+            child_begin += count;
+        }
+        s.cell_counts.resize(counts_at);
+        return chain.head;
+    }
+
+    // Nodes written to a Fragment, each in the one free cell of the one before: the one-cell
+    // nodes around a cell, outermost first, then the cell's own node or leaf.
+    struct Chain {
+        CellRef head;
+        std::size_t free_cell = std::numeric_limits<std::size_t>::max();
+
+        void link(CellRef ref, Fragment& out)
+        {
+            if (free_cell == std::numeric_limits<std::size_t>::max())
+                head = ref;
+            else
+                out.cells[free_cell] = ref;
+        }
+        // Appends a node record and its block of cells; returns the block's first cell.
+        std::uint32_t add_node(int axis, float lo, float hi, std::uint32_t resolution,
+                               Fragment& out)
+        {
+            const auto index = static_cast<std::uint32_t>(out.nodes.size());
+            const auto first_cell = static_cast<std::uint32_t>(out.cells.size());
+            out.nodes.push_back(GridNode::make(axis, lo, hi, resolution, first_cell));
+            out.cells.resize(out.cells.size() + resolution);
+            link(CellRef::make_inner(index), out);
+            free_cell = first_cell;
+            return first_cell;
+        }
     };
+
+    static void emit_bounds(const Bounds& bounds, Chain& chain, Fragment& out)
+    {
+        for (std::uint32_t b = 0; b < bounds.count; ++b)
+            chain.add_node(bounds.items[b].axis, bounds.items[b].lo, bounds.items[b].hi, 1, out);
+    }
+
+    CellRef emit_leaf(const Scratch& s, std::size_t begin, std::size_t n, double weight,
+                      Fragment& out)
+    {
+        const auto first = static_cast<std::uint32_t>(out.triangle_refs.size());
+        for (std::size_t k = 0; k < n; ++k)
+            out.triangle_refs.push_back(TriangleRef::make(s.tris[begin + k], k + 1 == n));
+        report(weight);
+        return CellRef::make_leaf(first);
+    }
+
+    CellRef emit_bounded_leaf(Aabb box, const Aabb& tight, const Scratch& s, std::size_t begin,
+                              std::size_t n, std::uint32_t depth, double weight, Fragment& out)
+    {
+        Chain chain;
+        emit_bounds(choose_bounds(box, tight, -1, depth), chain, out);
+        chain.link(emit_leaf(s, begin, n, weight, out), out);
+        return chain.head;
+    }
+
+    // Clips the triangles whose extent in `box` is not known yet.
+    void clip_unknown(const Aabb& box, const std::uint32_t* tris, TriExtent* extents,
+                      std::size_t n) const
+    {
+        const Aabbd clip_box = Aabbd::from(box).padded(pad_);
+        run(n, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k)
+                if (!extents[k].known) extents[k] = clipped_extent(tris[k], clip_box);
+        });
+    }
+
+    // The split of the first axis, by decreasing extent of the clipped triangles, that makes
+    // progress (the others are tried only if the longest makes none).
+    bool find_split(const Aabb& box, const Aabb& tight, std::span<const TriExtent> extents,
+                    Split& split) const
+    {
+        std::array<int, 3> axes{0, 1, 2};
+        std::stable_sort(axes.begin(), axes.end(),
+                         [&](int a, int b) { return tight.extent(a) > tight.extent(b); });
+        for (int axis : axes) {
+            if (!(tight.extent(axis) > 0.0f)) break;
+            if (try_split(box, tight, axis, extents, split)) return true;
+        }
+        return false;
+    }
 
     // The one-cell nodes worth putting around a cell of box `box` whose clipped triangles
     // span `tight`, outermost first, on axes other than `skip`: greedily the axis whose
     // planes cut the box's surface area most, while the cut is at least
     // bounding_node_gain of it (the surface-area model's chance that a ray through the box
     // reaches the contents). Narrows `box` to the planes. Each such node is one level: none
-    // is added past max_depth.
-    std::vector<Bound> choose_bounds(Aabb& box, const Aabb& tight, int skip,
-                                     std::uint32_t depth) const
+    // is added past max_depth. An axis once narrowed cannot cut the area again, so there are
+    // at most three.
+    Bounds choose_bounds(Aabb& box, const Aabb& tight, int skip, std::uint32_t depth) const
     {
-        std::vector<Bound> bounds;
+        Bounds bounds;
         if (!config_.bounding_nodes) return bounds;
-        for (;;) {
-            if (depth + bounds.size() + (skip >= 0 ? 1 : 0) > config_.max_depth) break;
+        while (bounds.count < bounds.items.size()) {
+            if (depth + bounds.count + (skip >= 0 ? 1 : 0) > config_.max_depth) break;
             const double area = box.surface_area();
             if (!(area > 0.0)) break;
             Bound best;
@@ -248,7 +429,7 @@ private:
             if (!found) break;
             box.lower[best.axis] = best.lo;
             box.upper[best.axis] = best.hi;
-            bounds.push_back(best);
+            bounds.items[bounds.count++] = best;
         }
         return bounds;
     }
@@ -257,18 +438,18 @@ private:
     BuiltCell make_bounded_leaf(Aabb box, const Aabb& tight, std::vector<std::uint32_t> tris,
                                 std::uint32_t depth, double weight)
     {
-        const std::vector<Bound> bounds = choose_bounds(box, tight, -1, depth);
+        const Bounds bounds = choose_bounds(box, tight, -1, depth);
         return wrap(bounds, make_leaf(std::move(tris), weight));
     }
 
     // `inner` inside the one-cell nodes `bounds` (outermost first).
-    static BuiltCell wrap(const std::vector<Bound>& bounds, BuiltCell inner)
+    static BuiltCell wrap(const Bounds& bounds, BuiltCell inner)
     {
-        for (auto it = bounds.rbegin(); it != bounds.rend(); ++it) {
+        for (std::uint32_t b = bounds.count; b-- > 0;) {
             auto node = std::make_unique<BuiltNode>();
-            node->axis = it->axis;
-            node->lo = it->lo;
-            node->hi = it->hi;
+            node->axis = bounds.items[b].axis;
+            node->lo = bounds.items[b].lo;
+            node->hi = bounds.items[b].hi;
             node->cells.resize(1);
             node->cells[0] = std::move(inner);
             inner = BuiltCell{};
@@ -281,7 +462,7 @@ private:
     // Fills `split` for `axis` and says whether it makes progress (BuildConfig's
     // no_progress_fraction and stop_by_cost).
     bool try_split(const Aabb& box, const Aabb& tight, int axis,
-                   const std::vector<TriExtent>& extents, Split& split) const
+                   std::span<const TriExtent> extents, Split& split) const
     {
         const std::size_t n = extents.size();
         // Bounding planes: the tight extent widened by the pad (so points a few ulps off a
@@ -401,7 +582,7 @@ private:
         return e;
     }
 
-    static Aabb reduce_box(const std::vector<TriExtent>& extents)
+    static Aabb reduce_box(std::span<const TriExtent> extents)
     {
         auto body = [&](const tbb::blocked_range<std::size_t>& r, Aabb box) {
             for (std::size_t k = r.begin(); k < r.end(); ++k) {
@@ -448,9 +629,66 @@ private:
     double last_reported_ = 0.0;
 };
 
+// A fragment's cell with its indices shifted past the grid's `node_base` nodes and
+// `ref_base` references.
+CellRef shifted(CellRef cell, std::uint32_t node_base, std::uint32_t ref_base)
+{
+    if (cell.is_inner()) return CellRef::make_inner(cell.child() + node_base);
+    if (cell.is_leaf()) return CellRef::make_leaf(cell.first_ref() + ref_base);
+    return cell;
+}
+
+// Appends a serially built subtree, already in pre-order, and releases it.
+CellRef append_fragment(Fragment& fragment, SplitGrid& grid)
+{
+    if (grid.triangle_refs.size() + fragment.triangle_refs.size() > std::size_t{max_cell_index} + 1)
+        throw InputError("Split Grid too large: more than 2^30 triangle references");
+    if (grid.nodes.size() + fragment.nodes.size() > std::size_t{max_cell_index} + 1 ||
+        grid.cells.size() + fragment.cells.size() > std::size_t{0xFFFFFFFFu})
+        throw InputError("Split Grid too large: more than 2^30 nodes or 2^32 cells");
+    const auto node_base = static_cast<std::uint32_t>(grid.nodes.size());
+    const auto cell_base = static_cast<std::uint32_t>(grid.cells.size());
+    const auto ref_base = static_cast<std::uint32_t>(grid.triangle_refs.size());
+    for (const GridNode& node : fragment.nodes)
+        grid.nodes.push_back(GridNode::from_raw(node.lo, node.hi, node.first_cell() + cell_base,
+                                                node.axis_res_bits()));
+    for (const CellRef cell : fragment.cells) grid.cells.push_back(shifted(cell, node_base, ref_base));
+    grid.triangle_refs.insert(grid.triangle_refs.end(), fragment.triangle_refs.begin(),
+                              fragment.triangle_refs.end());
+    const CellRef root = shifted(fragment.root, node_base, ref_base);
+    fragment = {};
+    return root;
+}
+
+// Numbers of nodes, cells and triangle references under `cell`.
+struct GridSize {
+    std::size_t nodes = 0;
+    std::size_t cells = 0;
+    std::size_t triangle_refs = 0;
+};
+void add_size(const BuiltCell& cell, GridSize& size)
+{
+    if (cell.fragment) {
+        size.nodes += cell.fragment->nodes.size();
+        size.cells += cell.fragment->cells.size();
+        size.triangle_refs += cell.fragment->triangle_refs.size();
+    } else if (cell.kind == CellKind::Leaf) {
+        size.triangle_refs += cell.triangles.size();
+    } else if (cell.kind == CellKind::Inner) {
+        size.nodes += 1;
+        size.cells += cell.node->cells.size();
+        for (const BuiltCell& child : cell.node->cells) add_size(child, size);
+    }
+}
+
 // Depth-first pre-order: a node's record, then its cells as one block, then its children.
 CellRef flatten(BuiltCell& cell, SplitGrid& grid)
 {
+    if (cell.fragment) {
+        const CellRef root = append_fragment(*cell.fragment, grid);
+        cell.fragment.reset();
+        return root;
+    }
     switch (cell.kind) {
     case CellKind::Empty:
         return CellRef::make_empty();
@@ -525,6 +763,17 @@ SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
                                               : static_cast<int>(config.threads));
     BuiltCell root;
     arena.execute([&] { root = builder.build_cell(grid.root_box, std::move(all), {}, 0, 1.0); });
+    // The arrays get their final size at once: growing them by doubling would hold up to
+    // three times their size while the built tree is still held too.
+    GridSize size;
+    add_size(root, size);
+    if (size.nodes > std::size_t{max_cell_index} + 1 || size.cells > std::size_t{0xFFFFFFFFu})
+        throw InputError("Split Grid too large: more than 2^30 nodes or 2^32 cells");
+    if (size.triangle_refs > std::size_t{max_cell_index} + 1)
+        throw InputError("Split Grid too large: more than 2^30 triangle references");
+    grid.nodes.reserve(size.nodes);
+    grid.cells.reserve(size.cells);
+    grid.triangle_refs.reserve(size.triangle_refs);
     grid.root = flatten(root, grid);
     return grid;
 }
