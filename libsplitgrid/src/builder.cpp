@@ -144,56 +144,32 @@ public:
                          std::vector<TriExtent> extents, std::uint32_t depth, double weight,
                          std::uint32_t kept_all = 0)
     {
-        BuiltCell cell;
-        if (tris.empty()) return cell;
+        if (tris.empty()) return {};
         if (tris.size() < parallel_grain)
             return build_fragment(box, std::move(tris), std::move(extents), depth, weight,
                                   kept_all);
-        if (depth > config_.max_depth ||
-            (!config_.bounding_nodes && tris.size() <= config_.leaf_size))
-            return make_leaf(std::move(tris), weight);
-
         const std::size_t n = tris.size();
         extents.resize(n);
-        clip_unknown(box, tris.data(), extents.data(), n);
-
-        // Tight box of the clipped triangles (min/max are exact, so any reduction order
-        // gives the same box).
-        const Aabb tight = reduce_box(extents);
-        if (tight.is_empty()) return make_leaf(std::move(tris), weight);
-        if (n <= config_.leaf_size || kept_all >= kept_all_limit)
-            return make_bounded_leaf(box, tight, std::move(tris), depth, weight);
         Split split;
-        if (!find_split(box, tight, extents, split))
-            return make_bounded_leaf(box, tight, std::move(tris), depth, weight);
+        const Plan plan = plan_cell(box, tris.data(), extents.data(), n, depth, kept_all, split);
+        if (!plan.is_node) return wrap(plan.bounds, make_leaf(std::move(tris), weight));
+
         const int axis = split.axis;
-        // One-cell nodes on the other axes where the triangles leave much of the box empty;
-        // the node and its cells then lie in the narrowed box.
-        Aabb bounded = box;
-        const Bounds bounds = choose_bounds(bounded, tight, axis, depth);
-        const std::uint32_t child_depth = depth + 1 + bounds.count;
         const std::uint32_t resolution = split.resolution;
         const CellMath cm(split.lo, split.hi, resolution);
         std::size_t total_refs = 0;
         for (std::uint32_t c : split.counts) total_refs += c;
-
-        // A triangle whose padded extent lies in one cell keeps its clipped extent there: the
-        // cell's padded box differs from this one only on `axis`, where it still contains the
-        // clipped piece, so clipping again would give the same piece. Only triangles that
-        // straddle cells are clipped again by the children (most are not).
         std::vector<std::vector<std::uint32_t>> cell_tris(resolution);
         std::vector<std::vector<TriExtent>> cell_extents(resolution);
         for (std::uint32_t c = 0; c < resolution; ++c) {
             cell_tris[c].reserve(split.counts[c]);
             cell_extents[c].reserve(split.counts[c]);
         }
-        for (std::size_t k = 0; k < n; ++k) {
-            const bool single_cell = split.first[k] == split.last[k];
-            for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c) {
-                cell_tris[c].push_back(tris[k]);
-                cell_extents[c].push_back(single_cell ? extents[k] : TriExtent{});
-            }
-        }
+        distribute(split, extents.data(), n,
+                   [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
+                       cell_tris[c].push_back(tris[k]);
+                       cell_extents[c].push_back(e);
+                   });
         tris = {};
         extents = {};
         split = {};
@@ -203,27 +179,86 @@ public:
         node->lo = cm.lo;
         node->hi = cm.hi;
         node->cells.resize(resolution);
-        auto build_children = [&](std::size_t begin, std::size_t end) {
-            for (std::size_t c = begin; c < end; ++c) {
-                const Aabb child = cm.cell_box(bounded, axis, static_cast<std::uint32_t>(c));
-                const double share = weight * static_cast<double>(cell_tris[c].size()) /
-                                     static_cast<double>(total_refs);
-                const std::uint32_t child_kept_all = cell_tris[c].size() == n ? kept_all + 1 : 0;
-                node->cells[c] = build_cell(child, std::move(cell_tris[c]),
-                                            std::move(cell_extents[c]), child_depth, share,
-                                            child_kept_all);
-            }
-        };
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, resolution, 1),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              build_children(r.begin(), r.end());
+        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, resolution, 1),
+                          [&](const tbb::blocked_range<std::uint32_t>& r) {
+                              for (std::uint32_t c = r.begin(); c < r.end(); ++c) {
+                                  const std::size_t count = cell_tris[c].size();
+                                  node->cells[c] = build_cell(
+                                      cm.cell_box(plan.bounded, axis, c), std::move(cell_tris[c]),
+                                      std::move(cell_extents[c]), plan.child_depth,
+                                      share(weight, count, total_refs),
+                                      count == n ? kept_all + 1 : 0);
+                              }
                           });
+        BuiltCell cell;
         cell.kind = CellKind::Inner;
         cell.node = std::move(node);
-        return wrap(bounds, std::move(cell));
+        return wrap(plan.bounds, std::move(cell));
     }
 
 private:
+    // What a cell does with its triangles: becomes a leaf, or a node split as the Split
+    // beside it says; either way inside the one-cell nodes `bounds` (outermost first). A
+    // node's cells lie in `bounded`, the box narrowed by them.
+    struct Plan {
+        bool is_node = false;
+        Bounds bounds;
+        Aabb bounded;
+        std::uint32_t child_depth = 0;
+    };
+
+    // The decisions for a cell covering `box` with the n triangles `tris` (all known to touch
+    // the padded box) at `depth`, the same for build_cell and build_serial. `extents` holds
+    // n entries: per triangle its clipped extent in this box where the parent already knew
+    // it; the others are clipped here. Fills `split` for a node.
+    Plan plan_cell(const Aabb& box, const std::uint32_t* tris, TriExtent* extents, std::size_t n,
+                   std::uint32_t depth, std::uint32_t kept_all, Split& split) const
+    {
+        Plan plan;
+        if (depth > config_.max_depth || (!config_.bounding_nodes && n <= config_.leaf_size))
+            return plan;
+        clip_unknown(box, tris, extents, n);
+        const std::span<const TriExtent> clipped(extents, n);
+        // Tight box of the clipped triangles (min/max are exact, so any reduction order
+        // gives the same box).
+        const Aabb tight = reduce_box(clipped);
+        if (tight.is_empty()) return plan;
+        plan.bounded = box;
+        if (n <= config_.leaf_size || kept_all >= kept_all_limit ||
+            !find_split(box, tight, clipped, split)) {
+            plan.bounds = choose_bounds(plan.bounded, tight, -1, depth);
+            return plan;
+        }
+        // One-cell nodes on the other axes where the triangles leave much of the box empty;
+        // the node and its cells then lie in the narrowed box.
+        plan.is_node = true;
+        plan.bounds = choose_bounds(plan.bounded, tight, split.axis, depth);
+        plan.child_depth = depth + 1 + plan.bounds.count;
+        return plan;
+    }
+
+    // Hands each of the n triangles to the cells of `split` its extent touches:
+    // put(cell, k, extent). A triangle whose padded extent lies in one cell keeps its clipped
+    // extent there: the cell's padded box differs from this one only on the split axis, where
+    // it still contains the clipped piece, so clipping again would give the same piece. Only
+    // triangles that straddle cells are clipped again by the children (most are not).
+    template <class Put>
+    static void distribute(const Split& split, const TriExtent* extents, std::size_t n,
+                           const Put& put)
+    {
+        for (std::size_t k = 0; k < n; ++k) {
+            const bool single_cell = split.first[k] == split.last[k];
+            for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c)
+                put(c, k, single_cell ? extents[k] : TriExtent{});
+        }
+    }
+
+    // A child's share of its parent's weight (progress reports): its share of the references.
+    static double share(double weight, std::size_t count, std::size_t total_refs) noexcept
+    {
+        return weight * static_cast<double>(count) / static_cast<double>(total_refs);
+    }
+
     // A cell of fewer than parallel_grain triangles: its whole subtree, built by this thread.
     BuiltCell build_fragment(const Aabb& box, std::vector<std::uint32_t> tris,
                              std::vector<TriExtent> extents, std::uint32_t depth, double weight,
@@ -246,70 +281,59 @@ private:
         return cell;
     }
 
-    // build_cell for one thread: the same decisions, made for the triangles at
-    // [begin, begin + n) of the scratch stacks, written to `out` in depth-first pre-order
-    // (a node's record, its cells as one block, then its children), which is the order
-    // flatten() gives the parallel part. `top` is the first free place on the stacks; the
-    // children's triangles are stacked there, cell after cell.
+    // build_cell for one thread: the same decisions, for the triangles at [begin, begin + n)
+    // of the scratch stacks, written to `out` in depth-first pre-order (a node's record, its
+    // cells as one block, then its children), which is the order flatten() gives the parallel
+    // part. `top` is the first free place on the stacks; the children's triangles are stacked
+    // there, cell after cell.
     CellRef build_serial(const Aabb& box, std::size_t begin, std::size_t n, std::size_t top,
                          std::uint32_t depth, double weight, std::uint32_t kept_all,
                          Scratch& s, Fragment& out)
     {
         if (n == 0) return CellRef::make_empty();
-        if (depth > config_.max_depth || (!config_.bounding_nodes && n <= config_.leaf_size))
-            return emit_leaf(s, begin, n, weight, out);
-        clip_unknown(box, s.tris.data() + begin, s.extents.data() + begin, n);
-        const std::span<const TriExtent> extents(s.extents.data() + begin, n);
-        const Aabb tight = reduce_box(extents);
-        if (tight.is_empty()) return emit_leaf(s, begin, n, weight, out);
-        if (n <= config_.leaf_size || kept_all >= kept_all_limit)
-            return emit_bounded_leaf(box, tight, s, begin, n, depth, weight, out);
-        if (!find_split(box, tight, extents, s.split))
-            return emit_bounded_leaf(box, tight, s, begin, n, depth, weight, out);
-        const Split& split = s.split;
+        const Plan plan = plan_cell(box, s.tris.data() + begin, s.extents.data() + begin, n,
+                                    depth, kept_all, s.split);
+        Chain chain;
+        emit_bounds(plan.bounds, chain, out);
+        if (!plan.is_node) {
+            chain.link(emit_leaf(s, begin, n, weight, out), out);
+            return chain.head;
+        }
+        Split& split = s.split;
         const int axis = split.axis;
-        Aabb bounded = box;
-        const Bounds bounds = choose_bounds(bounded, tight, axis, depth);
-        const std::uint32_t child_depth = depth + 1 + bounds.count;
         const std::uint32_t resolution = split.resolution;
         const CellMath cm(split.lo, split.hi, resolution);
 
-        // The cells' triangles, stacked from `top` in cell order (see build_cell on which
-        // extents are kept). The counts go on their own stack: `split` is reused below.
+        // The cells' triangles, stacked from `top` in cell order. The counts go on a stack of
+        // their own: `split` is reused by the children, and its counts become write cursors.
         const std::size_t counts_at = s.cell_counts.size();
         s.cell_counts.insert(s.cell_counts.end(), split.counts.begin(), split.counts.end());
         std::size_t child_top = top;
         for (std::uint32_t c = 0; c < resolution; ++c) {
             const std::uint32_t count = split.counts[c];
-            s.split.counts[c] = static_cast<std::uint32_t>(child_top - top);  // now a cursor
+            split.counts[c] = static_cast<std::uint32_t>(child_top - top);
             child_top += count;
         }
         if (s.tris.size() < child_top) {
             s.tris.resize(child_top);
             s.extents.resize(child_top);
         }
-        for (std::size_t k = 0; k < n; ++k) {
-            const bool single_cell = split.first[k] == split.last[k];
-            for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c) {
-                const std::size_t to = top + s.split.counts[c]++;
-                s.tris[to] = s.tris[begin + k];
-                s.extents[to] = single_cell ? s.extents[begin + k] : TriExtent{};
-            }
-        }
+        distribute(split, s.extents.data() + begin, n,
+                   [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
+                       const std::size_t to = top + split.counts[c]++;
+                       s.tris[to] = s.tris[begin + k];
+                       s.extents[to] = e;
+                   });
         const std::size_t total_refs = child_top - top;
 
-        Chain chain;
-        emit_bounds(bounds, chain, out);
         const std::uint32_t first_cell = chain.add_node(axis, cm.lo, cm.hi, resolution, out);
         std::size_t child_begin = top;
         for (std::uint32_t c = 0; c < resolution; ++c) {
             const std::size_t count = s.cell_counts[counts_at + c];
-            const Aabb child = cm.cell_box(bounded, axis, c);
-            const double share =
-                weight * static_cast<double>(count) / static_cast<double>(total_refs);
-            const std::uint32_t child_kept_all = count == n ? kept_all + 1 : 0;
-            out.cells[first_cell + c] = build_serial(child, child_begin, count, child_top,
-                                                     child_depth, share, child_kept_all, s, out);
+            out.cells[first_cell + c] =
+                build_serial(cm.cell_box(plan.bounded, axis, c), child_begin, count, child_top,
+                             plan.child_depth, share(weight, count, total_refs),
+                             count == n ? kept_all + 1 : 0, s, out);
             child_begin += count;
         }
         s.cell_counts.resize(counts_at);
@@ -357,15 +381,6 @@ private:
             out.triangle_refs.push_back(TriangleRef::make(s.tris[begin + k], k + 1 == n));
         report(weight);
         return CellRef::make_leaf(first);
-    }
-
-    CellRef emit_bounded_leaf(Aabb box, const Aabb& tight, const Scratch& s, std::size_t begin,
-                              std::size_t n, std::uint32_t depth, double weight, Fragment& out)
-    {
-        Chain chain;
-        emit_bounds(choose_bounds(box, tight, -1, depth), chain, out);
-        chain.link(emit_leaf(s, begin, n, weight, out), out);
-        return chain.head;
     }
 
     // Clips the triangles whose extent in `box` is not known yet.
@@ -432,14 +447,6 @@ private:
             bounds.items[bounds.count++] = best;
         }
         return bounds;
-    }
-
-    // A leaf of `tris` inside the one-cell nodes worth putting around it on any axis.
-    BuiltCell make_bounded_leaf(Aabb box, const Aabb& tight, std::vector<std::uint32_t> tris,
-                                std::uint32_t depth, double weight)
-    {
-        const Bounds bounds = choose_bounds(box, tight, -1, depth);
-        return wrap(bounds, make_leaf(std::move(tris), weight));
     }
 
     // `inner` inside the one-cell nodes `bounds` (outermost first).
