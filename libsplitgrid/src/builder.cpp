@@ -165,7 +165,7 @@ public:
             cell_tris[c].reserve(split.counts[c]);
             cell_extents[c].reserve(split.counts[c]);
         }
-        distribute(split, extents.data(), n,
+        distribute(box, plan, split, tris.data(), extents.data(), n, nullptr,
                    [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
                        cell_tris[c].push_back(tris[k]);
                        cell_extents[c].push_back(e);
@@ -215,8 +215,7 @@ private:
                    std::uint32_t depth, std::uint32_t kept_all, Split& split) const
     {
         Plan plan;
-        if (depth > config_.max_depth || (!config_.bounding_nodes && n <= config_.leaf_size))
-            return plan;
+        if (ends_as_plain_leaf(n, depth)) return plan;
         clip_unknown(box, tris, extents, n);
         const std::span<const TriExtent> clipped(extents, n);
         // Tight box of the clipped triangles (min/max are exact, so any reduction order
@@ -237,19 +236,65 @@ private:
         return plan;
     }
 
+    // True for a cell of n triangles at `depth` that becomes a leaf before its triangles are
+    // clipped (past max_depth, or small without bounding nodes).
+    bool ends_as_plain_leaf(std::size_t n, std::uint32_t depth) const noexcept
+    {
+        return depth > config_.max_depth || (!config_.bounding_nodes && n <= config_.leaf_size);
+    }
+
     // Hands each of the n triangles to the cells of `split` its extent touches:
     // put(cell, k, extent). A triangle whose padded extent lies in one cell keeps its clipped
     // extent there: the cell's padded box differs from this one only on the split axis, where
-    // it still contains the clipped piece, so clipping again would give the same piece. Only
-    // triangles that straddle cells are clipped again by the children (most are not).
+    // it still contains the clipped piece, so clipping again would give the same piece. A
+    // triangle that straddles cells is clipped to this cell's box once, when `clip_pieces`,
+    // and each cell's piece is read from that polygon (ClippedTriangle::slab_bounds);
+    // otherwise the children clip it again, each to its own box. The parallel top of the
+    // tree leaves it to the children, which run in parallel; the serial subtrees clip here,
+    // once instead of once per cell (2.0 cells per straddling triangle on the dragon).
+    // `cell_counts` (when clipping pieces) holds the number of triangles each cell gets: a
+    // cell that becomes a leaf without looking at its extents gets no pieces.
     template <class Put>
-    static void distribute(const Split& split, const TriExtent* extents, std::size_t n,
-                           const Put& put)
+    void distribute(const Aabb& box, const Plan& plan, const Split& split,
+                    const std::uint32_t* tris, const TriExtent* extents, std::size_t n,
+                    const std::uint32_t* cell_counts, const Put& put) const
     {
+        const bool clip_pieces = cell_counts != nullptr && config_.clip_triangles;
+        const CellMath cm(split.lo, split.hi, split.resolution);
+        const Aabbd clip_box = Aabbd::from(box).padded(pad_);
+        auto wants_extents = [&](std::uint32_t c) {
+            return !ends_as_plain_leaf(cell_counts[c], plan.child_depth);
+        };
+        ClippedTriangle polygon;
         for (std::size_t k = 0; k < n; ++k) {
-            const bool single_cell = split.first[k] == split.last[k];
-            for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c)
-                put(c, k, single_cell ? extents[k] : TriExtent{});
+            const std::uint32_t first = split.first[k];
+            const std::uint32_t last = split.last[k];
+            if (first == last) {
+                put(first, k, extents[k]);
+                continue;
+            }
+            bool clipped = false;
+            if (first < last && clip_pieces) {
+                bool wanted = false;
+                for (std::uint32_t c = first; c <= last && !wanted; ++c) wanted = wants_extents(c);
+                clipped = wanted && polygon.clip(Vec3d(mesh_.vertex(tris[k], 0)),
+                                                 Vec3d(mesh_.vertex(tris[k], 1)),
+                                                 Vec3d(mesh_.vertex(tris[k], 2)), clip_box);
+            }
+            for (std::uint32_t c = first; c <= last; ++c) {
+                if (!clipped || !wants_extents(c)) {
+                    put(c, k, TriExtent{});
+                    continue;
+                }
+                const Aabbd cell =
+                    Aabbd::from(cm.cell_box(plan.bounded, split.axis, c)).padded(pad_);
+                Aabbd piece;
+                put(c, k,
+                    polygon.slab_bounds(split.axis, cell.lower[split.axis],
+                                        cell.upper[split.axis], cell, piece)
+                        ? rounded_extent(piece, extents[k].size)
+                        : empty_extent());
+            }
         }
     }
 
@@ -318,7 +363,8 @@ private:
             s.tris.resize(child_top);
             s.extents.resize(child_top);
         }
-        distribute(split, s.extents.data() + begin, n,
+        distribute(box, plan, split, s.tris.data() + begin, s.extents.data() + begin, n,
+                   s.cell_counts.data() + counts_at,
                    [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
                        const std::size_t to = top + split.counts[c]++;
                        s.tris[to] = s.tris[begin + k];
@@ -574,18 +620,32 @@ private:
         const Vec3d b(mesh_.vertex(tri, 1));
         const Vec3d c(mesh_.vertex(tri, 2));
         Aabbd clipped;
+        if (config_.clip_triangles ? !clip_triangle_bounds(a, b, c, clip_box, clipped)
+                                   : !clip_triangle_box(a, b, c, clip_box, clipped))
+            return empty_extent();
+        Vec3f size;
+        for (int k = 0; k < 3; ++k)
+            size[k] = static_cast<float>(std::max({a[k], b[k], c[k]}) - std::min({a[k], b[k], c[k]}));
+        return rounded_extent(clipped, size);
+    }
+
+    // The extent of a clipped piece in floats, rounded outward so it still contains it.
+    static TriExtent rounded_extent(const Aabbd& clipped, Vec3f size) noexcept
+    {
         TriExtent e;
         e.known = true;
-        if (config_.clip_triangles ? !clip_triangle_bounds(a, b, c, clip_box, clipped)
-                                   : !clip_triangle_box(a, b, c, clip_box, clipped)) {
-            e.is_empty = true;
-            return e;
-        }
         for (int k = 0; k < 3; ++k) {
             e.lower[k] = round_down(clipped.lower[k]);
             e.upper[k] = round_up(clipped.upper[k]);
-            e.size[k] = static_cast<float>(std::max({a[k], b[k], c[k]}) - std::min({a[k], b[k], c[k]}));
         }
+        e.size = size;
+        return e;
+    }
+    static TriExtent empty_extent() noexcept
+    {
+        TriExtent e;
+        e.known = true;
+        e.is_empty = true;
         return e;
     }
 

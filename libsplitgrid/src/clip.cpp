@@ -3,17 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 namespace sg {
 namespace {
 
-// A triangle clipped by six planes has at most 3 + 6 vertices.
-constexpr int max_polygon_vertices = 9;
-
-struct Polygon {
-    std::array<Vec3d, max_polygon_vertices + 1> v;
-    int count = 0;
-};
+constexpr int max_polygon_vertices = ClippedTriangle::max_vertices;
+using Polygon = ClippedTriangle::Polygon;
 
 // Keeps the part of `in` with sign * (p[axis] - plane) >= 0. New vertices are placed on the
 // plane exactly, so later clips see the coordinate the plane has, not a rounded neighbour.
@@ -38,51 +35,104 @@ void clip_polygon(const Polygon& in, int axis, double plane, double sign, Polygo
 
 }  // namespace
 
-bool clip_triangle_bounds(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box, Aabbd& out) noexcept
+bool ClippedTriangle::clip(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box) noexcept
 {
     Aabbd tri{{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})},
               {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})}};
-    bool inside = true;
-    for (int k = 0; k < 3; ++k) {
+    polygon_.count = 0;
+    for (int k = 0; k < 3; ++k)
         if (tri.upper[k] < box.lower[k] || tri.lower[k] > box.upper[k]) return false;
-        inside = inside && tri.lower[k] >= box.lower[k] && tri.upper[k] <= box.upper[k];
-    }
-    if (inside) {
-        out = tri;
-        return true;
-    }
-    Polygon poly[2];
-    poly[0].v[0] = a;
-    poly[0].v[1] = b;
-    poly[0].v[2] = c;
-    poly[0].count = 3;
-    int cur = 0;
+    Polygon spare;
+    Polygon* current = &polygon_;
+    Polygon* next = &spare;
+    current->v[0] = a;
+    current->v[1] = b;
+    current->v[2] = c;
+    current->count = 3;
     for (int k = 0; k < 3; ++k) {
         if (tri.lower[k] < box.lower[k]) {
-            clip_polygon(poly[cur], k, box.lower[k], 1.0, poly[1 - cur]);
-            cur = 1 - cur;
-            if (poly[cur].count == 0) return false;
+            clip_polygon(*current, k, box.lower[k], 1.0, *next);
+            std::swap(current, next);
+            if (current->count == 0) break;
         }
         if (tri.upper[k] > box.upper[k]) {
-            clip_polygon(poly[cur], k, box.upper[k], -1.0, poly[1 - cur]);
-            cur = 1 - cur;
-            if (poly[cur].count == 0) return false;
+            clip_polygon(*current, k, box.upper[k], -1.0, *next);
+            std::swap(current, next);
+            if (current->count == 0) break;
         }
     }
-    const Polygon& p = poly[cur];
-    out.lower = out.upper = p.v[0];
-    for (int i = 1; i < p.count; ++i) {
-        for (int k = 0; k < 3; ++k) {
-            out.lower[k] = std::min(out.lower[k], p.v[static_cast<std::size_t>(i)][k]);
-            out.upper[k] = std::max(out.upper[k], p.v[static_cast<std::size_t>(i)][k]);
-        }
-    }
-    // Interpolated points can stray from the box by a rounding error; the result is a subset
-    // of the box by definition.
+    if (current != &polygon_) polygon_ = *current;
+    return polygon_.count > 0;
+}
+
+namespace {
+
+// Widens `out` (lower > upper when nothing is in it yet) by point p.
+void extend(Aabbd& out, const Vec3d& p) noexcept
+{
     for (int k = 0; k < 3; ++k) {
-        out.lower[k] = std::clamp(out.lower[k], box.lower[k], box.upper[k]);
-        out.upper[k] = std::clamp(out.upper[k], box.lower[k], box.upper[k]);
+        out.lower[k] = std::min(out.lower[k], p[k]);
+        out.upper[k] = std::max(out.upper[k], p[k]);
     }
+}
+
+constexpr double infinity = std::numeric_limits<double>::infinity();
+
+Aabbd clamped(Aabbd b, const Aabbd& box) noexcept
+{
+    for (int k = 0; k < 3; ++k) {
+        b.lower[k] = std::clamp(b.lower[k], box.lower[k], box.upper[k]);
+        b.upper[k] = std::clamp(b.upper[k], box.lower[k], box.upper[k]);
+    }
+    return b;
+}
+
+}  // namespace
+
+Aabbd ClippedTriangle::bounds(const Aabbd& box) const noexcept
+{
+    Aabbd out{{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}};
+    for (int i = 0; i < polygon_.count; ++i) extend(out, polygon_.v[static_cast<std::size_t>(i)]);
+    return clamped(out, box);
+}
+
+bool ClippedTriangle::slab_bounds(int axis, double lower, double upper, const Aabbd& box,
+                                  Aabbd& out) const noexcept
+{
+    out = {{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}};
+    bool any = false;
+    // The point of edge pq on the plane p[axis] = plane, where the edge crosses it (the
+    // formula and the convention "on the plane counts as inside" of clip_polygon).
+    auto cross = [&](const Vec3d& p, const Vec3d& q, double plane) {
+        const double dp = p[axis] - plane;
+        const double dq = q[axis] - plane;
+        if ((dp >= 0.0) == (dq >= 0.0)) return;
+        const double s = dp / (dp - dq);
+        Vec3d x{p.x + (q.x - p.x) * s, p.y + (q.y - p.y) * s, p.z + (q.z - p.z) * s};
+        x[axis] = plane;
+        extend(out, x);
+        any = true;
+    };
+    for (int i = 0; i < polygon_.count; ++i) {
+        const Vec3d& p = polygon_.v[static_cast<std::size_t>(i)];
+        const Vec3d& q = polygon_.v[static_cast<std::size_t>(i + 1 == polygon_.count ? 0 : i + 1)];
+        if (p[axis] >= lower && p[axis] <= upper) {
+            extend(out, p);
+            any = true;
+        }
+        cross(p, q, lower);
+        cross(p, q, upper);
+    }
+    if (!any) return false;
+    out = clamped(out, box);
+    return true;
+}
+
+bool clip_triangle_bounds(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box, Aabbd& out) noexcept
+{
+    ClippedTriangle clipped;
+    if (!clipped.clip(a, b, c, box)) return false;
+    out = clipped.bounds(box);
     return true;
 }
 

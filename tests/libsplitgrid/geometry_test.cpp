@@ -85,6 +85,50 @@ TEST(Clip, AgreesWithTheSeparatingAxisTest)
     EXPECT_GT(overlaps, 1000);
 }
 
+TEST(Clip, PiecesInSlabsAgreeWithClippingToTheSlabsBox)
+{
+    // The builder clips a straddling triangle once to its node's box and reads each cell's
+    // piece from the polygon; clipping the triangle to the cell's box directly is the oracle.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-2.0, 2.0);
+    std::uniform_int_distribution<int> axis_of(0, 2);
+    const Aabbd box{{-1, -1, -1}, {1, 1, 1}};
+    int pieces = 0, empty = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const Vec3d a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)};
+        ClippedTriangle polygon;
+        Aabbd whole;
+        ASSERT_EQ(polygon.clip(a, b, c, box), clip_triangle_bounds(a, b, c, box, whole));
+        if (!clip_triangle_bounds(a, b, c, box, whole)) continue;
+        const Aabbd bounds = polygon.bounds(box);
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(bounds.lower[k], whole.lower[k]);
+            EXPECT_EQ(bounds.upper[k], whole.upper[k]);
+        }
+        const int axis = axis_of(rng);
+        double lo = u(rng) * 0.5, hi = u(rng) * 0.5;
+        if (lo > hi) std::swap(lo, hi);
+        Aabbd slab_box = box;
+        slab_box.lower[axis] = lo;
+        slab_box.upper[axis] = hi;
+        Aabbd expected, piece;
+        const bool direct = clip_triangle_bounds(a, b, c, slab_box, expected);
+        const bool from_polygon = polygon.slab_bounds(axis, lo, hi, slab_box, piece);
+        ASSERT_EQ(from_polygon, direct) << "trial " << trial;
+        if (!direct) {
+            ++empty;
+            continue;
+        }
+        ++pieces;
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_NEAR(piece.lower[k], expected.lower[k], 1e-12) << "trial " << trial;
+            EXPECT_NEAR(piece.upper[k], expected.upper[k], 1e-12) << "trial " << trial;
+        }
+    }
+    EXPECT_GT(pieces, 1000);
+    EXPECT_GT(empty, 1000);
+}
+
 TEST(Clip, ClippedBoundsAreTightForAKnownCase)
 {
     // The triangle (0,0,0) (4,0,0) (0,4,0) inside the box [1,2]^2 x [-1,1]: the clipped

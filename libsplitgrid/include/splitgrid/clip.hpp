@@ -1,5 +1,7 @@
 #pragma once
 
+#include <array>
+
 #include "splitgrid/aabb.hpp"
 #include "splitgrid/vec3.hpp"
 
@@ -19,6 +21,40 @@ struct Aabbd {
         return {{lower.x - pad, lower.y - pad, lower.z - pad},
                 {upper.x + pad, upper.y + pad, upper.z + pad}};
     }
+};
+
+/// A triangle clipped to a box (Sutherland-Hodgman, double precision; points on a plane count
+/// as inside), kept as its polygon so that the bounds of its parts in several slabs can be
+/// read without clipping the triangle again: the builder clips a triangle that straddles
+/// cells once per node and reads each cell's piece from the polygon.
+class ClippedTriangle {
+public:
+    /// Clips triangle abc to `box`; false where they do not touch (the polygon is then
+    /// empty). Degenerate triangles (segments, points) are clipped like any other polygon.
+    bool clip(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box) noexcept;
+
+    /// Bounding box of the polygon, clamped to `box` (interpolated points can stray from it
+    /// by a rounding error; the piece lies in it by definition). Precondition: clip() was
+    /// true for a box inside `box`.
+    [[nodiscard]] Aabbd bounds(const Aabbd& box) const noexcept;
+
+    /// Bounding box of the part of the polygon with lower <= p[axis] <= upper, clamped to
+    /// `box`, which must contain that part (the cell box of the slab); false where the part
+    /// is empty. The part of a convex polygon in a slab is spanned by its vertices inside the
+    /// slab and the points where its edges cross the slab's two planes, so no clipping is
+    /// needed: the result equals clipping the triangle to `box` up to rounding.
+    bool slab_bounds(int axis, double lower, double upper, const Aabbd& box,
+                     Aabbd& out) const noexcept;
+
+    /// Room for a triangle clipped by six planes: 3 + 6 vertices, and one spare.
+    static constexpr int max_vertices = 9;
+    struct Polygon {
+        std::array<Vec3d, max_vertices + 1> v;
+        int count = 0;
+    };
+
+private:
+    Polygon polygon_;
 };
 
 /// Bounding box of (triangle abc) intersected with `box`, computed by clipping the triangle
