@@ -67,24 +67,24 @@ bool ClippedTriangle::clip(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box) noexcept
 
 namespace {
 
-// Widens `out` (lower > upper when nothing is in it yet) by point p.
-void extend(Aabbd& out, const Vec3d& p) noexcept
+// Widens `out` (lower > upper when nothing is in it yet) by point p. Spelled out per
+// component: Vec3d's operator[] chooses the component by a branch.
+inline void extend(Aabbd& out, const Vec3d& p) noexcept
 {
-    for (int k = 0; k < 3; ++k) {
-        out.lower[k] = std::min(out.lower[k], p[k]);
-        out.upper[k] = std::max(out.upper[k], p[k]);
-    }
+    out.lower = {std::min(out.lower.x, p.x), std::min(out.lower.y, p.y), std::min(out.lower.z, p.z)};
+    out.upper = {std::max(out.upper.x, p.x), std::max(out.upper.y, p.y), std::max(out.upper.z, p.z)};
 }
 
 constexpr double infinity = std::numeric_limits<double>::infinity();
 
-Aabbd clamped(Aabbd b, const Aabbd& box) noexcept
+inline Vec3d clamped(const Vec3d& p, const Aabbd& box) noexcept
 {
-    for (int k = 0; k < 3; ++k) {
-        b.lower[k] = std::clamp(b.lower[k], box.lower[k], box.upper[k]);
-        b.upper[k] = std::clamp(b.upper[k], box.lower[k], box.upper[k]);
-    }
-    return b;
+    return {std::clamp(p.x, box.lower.x, box.upper.x), std::clamp(p.y, box.lower.y, box.upper.y),
+            std::clamp(p.z, box.lower.z, box.upper.z)};
+}
+inline Aabbd clamped(const Aabbd& b, const Aabbd& box) noexcept
+{
+    return {clamped(b.lower, box), clamped(b.upper, box)};
 }
 
 }  // namespace
