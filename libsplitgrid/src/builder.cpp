@@ -118,11 +118,13 @@ struct Bounds {
 // Working memory of one serially built subtree, reused by all its nodes: the triangles and
 // extents of every node on the path from the subtree's root are stacked in `tris` and
 // `extents` (a node's cells after its own range), the cell counts of those nodes in
-// `cell_counts`; `split` is the candidate split of the node at hand.
+// `cell_counts`; `split` is the candidate split of the node at hand and `cell_boxes` its
+// cells' padded boxes.
 struct Scratch {
     std::vector<std::uint32_t> tris;
     std::vector<TriExtent> extents;
     std::vector<std::uint32_t> cell_counts;
+    std::vector<Aabbd> cell_boxes;
     Split split;
 };
 
@@ -165,7 +167,8 @@ public:
             cell_tris[c].reserve(split.counts[c]);
             cell_extents[c].reserve(split.counts[c]);
         }
-        distribute(box, plan, split, tris.data(), extents.data(), n, nullptr,
+        std::vector<Aabbd> unused;
+        distribute(box, plan, split, tris.data(), extents.data(), n, nullptr, unused,
                    [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
                        cell_tris[c].push_back(tris[k]);
                        cell_extents[c].push_back(e);
@@ -253,15 +256,22 @@ private:
     // tree leaves it to the children, which run in parallel; the serial subtrees clip here,
     // once instead of once per cell (2.0 cells per straddling triangle on the dragon).
     // `cell_counts` (when clipping pieces) holds the number of triangles each cell gets: a
-    // cell that becomes a leaf without looking at its extents gets no pieces.
+    // cell that becomes a leaf without looking at its extents gets no pieces. `cell_boxes`
+    // is working memory for the cells' padded boxes.
     template <class Put>
     void distribute(const Aabb& box, const Plan& plan, const Split& split,
                     const std::uint32_t* tris, const TriExtent* extents, std::size_t n,
-                    const std::uint32_t* cell_counts, const Put& put) const
+                    const std::uint32_t* cell_counts, std::vector<Aabbd>& cell_boxes,
+                    const Put& put) const
     {
         const bool clip_pieces = cell_counts != nullptr && config_.clip_triangles;
-        const CellMath cm(split.lo, split.hi, split.resolution);
         const Aabbd clip_box = Aabbd::from(box).padded(pad_);
+        if (clip_pieces) {
+            const CellMath cm(split.lo, split.hi, split.resolution);
+            cell_boxes.resize(split.resolution);
+            for (std::uint32_t c = 0; c < split.resolution; ++c)
+                cell_boxes[c] = Aabbd::from(cm.cell_box(plan.bounded, split.axis, c)).padded(pad_);
+        }
         auto wants_extents = [&](std::uint32_t c) {
             return !ends_as_plain_leaf(cell_counts[c], plan.child_depth);
         };
@@ -286,8 +296,7 @@ private:
                     put(c, k, TriExtent{});
                     continue;
                 }
-                const Aabbd cell =
-                    Aabbd::from(cm.cell_box(plan.bounded, split.axis, c)).padded(pad_);
+                const Aabbd& cell = cell_boxes[c];
                 Aabbd piece;
                 put(c, k,
                     polygon.slab_bounds(split.axis, cell.lower[split.axis],
@@ -364,7 +373,7 @@ private:
             s.extents.resize(child_top);
         }
         distribute(box, plan, split, s.tris.data() + begin, s.extents.data() + begin, n,
-                   s.cell_counts.data() + counts_at,
+                   s.cell_counts.data() + counts_at, s.cell_boxes,
                    [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
                        const std::size_t to = top + split.counts[c]++;
                        s.tris[to] = s.tris[begin + k];
