@@ -23,8 +23,11 @@
 namespace sg {
 namespace {
 
-// Nodes with fewer triangles than this do their per-triangle work serially: below it the
-// task overhead outweighs the work.
+// Nodes with fewer triangles than this do their per-triangle work serially, and their
+// subtrees are built by one thread (Builder::build_serial): below it the task overhead
+// outweighs the work. The grid depends on it only through rounding: above it a straddling
+// triangle is clipped to each cell's box, below it to the node's box and cut at the cells'
+// planes (the same pieces up to double rounding). It does not depend on the thread count.
 constexpr std::size_t parallel_grain = 4096;
 
 // A one-cell bounding node is added where it cuts a cell's surface area by at least this
@@ -95,7 +98,7 @@ struct BuiltCell {
     CellKind kind = CellKind::Empty;
     std::vector<std::uint32_t> triangles;  // leaf
     std::unique_ptr<BuiltNode> node;       // inner
-    std::unique_ptr<Fragment> fragment;    // a serially built subtree (kind is then Inner)
+    std::unique_ptr<Fragment> fragment;    // a serially built subtree (kind: its root's)
 };
 struct BuiltNode {
     int axis = 0;
@@ -248,10 +251,13 @@ private:
 
     // Hands each of the n triangles to the cells of `split` its extent touches:
     // put(cell, k, extent). A triangle whose padded extent lies in one cell keeps its clipped
-    // extent there: the cell's padded box differs from this one only on the split axis, where
-    // it still contains the clipped piece, so clipping again would give the same piece. A
-    // triangle that straddles cells is clipped to this cell's box once, when `clip_pieces`,
-    // and each cell's piece is read from that polygon (ClippedTriangle::slab_bounds);
+    // extent there: the cell's padded box differs from this one on the split axis, where it
+    // still contains the clipped piece, and on the axes of bounding nodes, whose planes lie
+    // a pad outside the tight box of all pieces (choose_bounds), so clipping again would
+    // give the same piece. For the same reason the cell's box contains every piece on the
+    // other axes, which ClippedTriangle::slab_bounds requires. A triangle that straddles
+    // cells is clipped to this node's padded box once, when `cell_counts` is given, and each
+    // cell's piece is read from that polygon (ClippedTriangle::slab_bounds);
     // otherwise the children clip it again, each to its own box. The parallel top of the
     // tree leaves it to the children, which run in parallel; the serial subtrees clip here,
     // once instead of once per cell (2.0 cells per straddling triangle on the dragon).
@@ -299,8 +305,7 @@ private:
                 const Aabbd& cell = cell_boxes[c];
                 Aabbd piece;
                 put(c, k,
-                    polygon.slab_bounds(split.axis, cell.lower[split.axis],
-                                        cell.upper[split.axis], cell, piece)
+                    polygon.slab_bounds(split.axis, cell, piece)
                         ? rounded_extent(piece, extents[k].size)
                         : empty_extent());
             }
@@ -324,10 +329,10 @@ private:
         scratch.extents = std::move(extents);
         scratch.extents.resize(n);
         BuiltCell cell;
-        cell.kind = CellKind::Inner;
         cell.fragment = std::make_unique<Fragment>();
         Fragment& fragment = *cell.fragment;
         fragment.root = build_serial(box, 0, n, n, depth, weight, kept_all, scratch, fragment);
+        cell.kind = fragment.root.kind();
         // Fragments wait for flatten() until the whole tree is built: no spare capacity.
         fragment.nodes.shrink_to_fit();
         fragment.cells.shrink_to_fit();
@@ -385,10 +390,12 @@ private:
         std::size_t child_begin = top;
         for (std::uint32_t c = 0; c < resolution; ++c) {
             const std::size_t count = s.cell_counts[counts_at + c];
-            out.cells[first_cell + c] =
+            // Built before it is stored: the child appends to out.cells.
+            const CellRef child =
                 build_serial(cm.cell_box(plan.bounded, axis, c), child_begin, count, child_top,
                              plan.child_depth, share(weight, count, total_refs),
                              count == n ? kept_all + 1 : 0, s, out);
+            out.cells[first_cell + c] = child;
             child_begin += count;
         }
         s.cell_counts.resize(counts_at);

@@ -96,13 +96,15 @@ Aabbd ClippedTriangle::bounds(const Aabbd& box) const noexcept
     return clamped(out, box);
 }
 
-bool ClippedTriangle::slab_bounds(int axis, double lower, double upper, const Aabbd& box,
-                                  Aabbd& out) const noexcept
+bool ClippedTriangle::slab_bounds(int axis, const Aabbd& box, Aabbd& out) const noexcept
 {
+    const double lower = box.lower[axis];
+    const double upper = box.upper[axis];
     out = {{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}};
     bool any = false;
-    // The point of edge pq on the plane p[axis] = plane, where the edge crosses it (the
-    // formula and the convention "on the plane counts as inside" of clip_polygon).
+    // The point of edge pq on the plane p[axis] = plane, where its ends lie on different
+    // sides (the formula of clip_polygon). A vertex on the plane is in the slab and taken
+    // above; an edge that ends on the plane adds that vertex again at most.
     auto cross = [&](const Vec3d& p, const Vec3d& q, double plane) {
         const double dp = p[axis] - plane;
         const double dq = q[axis] - plane;
@@ -130,6 +132,19 @@ bool ClippedTriangle::slab_bounds(int axis, double lower, double upper, const Aa
 
 bool clip_triangle_bounds(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box, Aabbd& out) noexcept
 {
+    // A triangle inside the box is its own piece: no polygon is set up (most calls of the
+    // grid and kd-tree builders).
+    const Aabbd tri{{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})},
+                    {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})}};
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) {
+        if (tri.upper[k] < box.lower[k] || tri.lower[k] > box.upper[k]) return false;
+        inside = inside && tri.lower[k] >= box.lower[k] && tri.upper[k] <= box.upper[k];
+    }
+    if (inside) {
+        out = tri;
+        return true;
+    }
     ClippedTriangle clipped;
     if (!clipped.clip(a, b, c, box)) return false;
     out = clipped.bounds(box);

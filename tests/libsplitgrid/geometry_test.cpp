@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/clip.hpp"
@@ -89,44 +91,78 @@ TEST(Clip, PiecesInSlabsAgreeWithClippingToTheSlabsBox)
 {
     // The builder clips a straddling triangle once to its node's box and reads each cell's
     // piece from the polygon; clipping the triangle to the cell's box directly is the oracle.
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> u(-2.0, 2.0);
-    std::uniform_int_distribution<int> axis_of(0, 2);
+    // Two kinds of input: random coordinates, and coordinates and planes on a lattice of
+    // quarter units, where vertices lie on planes, slabs have zero width and triangles
+    // degenerate into segments and points.
     const Aabbd box{{-1, -1, -1}, {1, 1, 1}};
-    int pieces = 0, empty = 0;
-    for (int trial = 0; trial < 20000; ++trial) {
-        const Vec3d a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)};
+    int pieces = 0, empty = 0, touching = 0;
+    auto check = [&](const Vec3d& a, const Vec3d& b, const Vec3d& c, int axis, double lo,
+                     double hi, int trial) {
         ClippedTriangle polygon;
         Aabbd whole;
-        ASSERT_EQ(polygon.clip(a, b, c, box), clip_triangle_bounds(a, b, c, box, whole));
-        if (!clip_triangle_bounds(a, b, c, box, whole)) continue;
-        const Aabbd bounds = polygon.bounds(box);
-        for (int k = 0; k < 3; ++k) {
-            EXPECT_EQ(bounds.lower[k], whole.lower[k]);
-            EXPECT_EQ(bounds.upper[k], whole.upper[k]);
-        }
-        const int axis = axis_of(rng);
-        double lo = u(rng) * 0.5, hi = u(rng) * 0.5;
-        if (lo > hi) std::swap(lo, hi);
+        ASSERT_EQ(polygon.clip(a, b, c, box), clip_triangle_bounds(a, b, c, box, whole))
+            << "trial " << trial;
+        if (!clip_triangle_bounds(a, b, c, box, whole)) return;
         Aabbd slab_box = box;
         slab_box.lower[axis] = lo;
         slab_box.upper[axis] = hi;
         Aabbd expected, piece;
         const bool direct = clip_triangle_bounds(a, b, c, slab_box, expected);
-        const bool from_polygon = polygon.slab_bounds(axis, lo, hi, slab_box, piece);
-        ASSERT_EQ(from_polygon, direct) << "trial " << trial;
+        const bool from_polygon = polygon.slab_bounds(axis, slab_box, piece);
+        if (from_polygon != direct) {
+            // Allowed only where the piece one of them finds merely touches the box: flat on
+            // an axis, at one of the box's faces (a point or an edge on a plane, found or
+            // lost by rounding; the builder's pad is far wider).
+            const Aabbd& found = direct ? expected : piece;
+            bool touches = false;
+            for (int k = 0; k < 3; ++k)
+                touches = touches || (found.upper[k] - found.lower[k] <= 1e-12 &&
+                                      (std::abs(found.lower[k] - slab_box.lower[k]) <= 1e-12 ||
+                                       std::abs(found.upper[k] - slab_box.upper[k]) <= 1e-12));
+            EXPECT_TRUE(touches) << "trial " << trial << ": the direct clip is "
+                                 << (direct ? "not " : "") << "empty, the piece from the polygon "
+                                 << (from_polygon ? "not " : "") << "empty";
+            ++touching;
+            return;
+        }
         if (!direct) {
             ++empty;
-            continue;
+            return;
         }
         ++pieces;
         for (int k = 0; k < 3; ++k) {
             EXPECT_NEAR(piece.lower[k], expected.lower[k], 1e-12) << "trial " << trial;
             EXPECT_NEAR(piece.upper[k], expected.upper[k], 1e-12) << "trial " << trial;
         }
+    };
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-2.0, 2.0);
+    std::uniform_int_distribution<int> axis_of(0, 2);
+    std::uniform_int_distribution<int> quarter(-8, 8);
+    for (int trial = 0; trial < 20000; ++trial) {
+        const Vec3d a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)};
+        double lo = u(rng) * 0.5, hi = u(rng) * 0.5;
+        if (lo > hi) std::swap(lo, hi);
+        check(a, b, c, axis_of(rng), lo, hi, trial);
     }
-    EXPECT_GT(pieces, 1000);
-    EXPECT_GT(empty, 1000);
+    EXPECT_EQ(touching, 0) << "random coordinates do not graze a plane";
+    const int random_pieces = pieces, random_empty = empty;
+    EXPECT_GT(random_pieces, 1000);
+    EXPECT_GT(random_empty, 1000);
+    auto q = [&] { return 0.25 * quarter(rng); };
+    for (int trial = 0; trial < 20000; ++trial) {
+        const Vec3d a{q(), q(), q()};
+        const Vec3d b = trial % 7 == 0 ? a : Vec3d{q(), q(), q()};
+        const Vec3d c = trial % 11 == 0 ? b : Vec3d{q(), q(), q()};
+        double lo = std::clamp(q(), -1.0, 1.0), hi = trial % 5 == 0 ? lo : std::clamp(q(), -1.0, 1.0);
+        if (lo > hi) std::swap(lo, hi);
+        check(a, b, c, axis_of(rng), lo, hi, 20000 + trial);
+    }
+    EXPECT_GT(pieces - random_pieces, 1000);
+    EXPECT_GT(empty - random_empty, 1000);
+    // Disagreements are grazing contacts only, and rare even where every vertex lies on a
+    // lattice of planes.
+    EXPECT_LT(touching, 40);
 }
 
 TEST(Clip, ClippedBoundsAreTightForAKnownCase)

@@ -18,8 +18,11 @@ using BuildProgress = std::function<void(double fraction_done)>;
 ///   node's box (the poster says "longest axis of the node's box"; the tight box avoids
 ///   splitting an axis along which everything is flat or empty).
 /// - The bounding planes lo, hi are the extent of those clipped triangles on the split axis.
-/// - A triangle is referenced by every cell whose box, padded by `boundary_pad(grid)`, its
-///   exact (double-precision Sutherland-Hodgman) clipped polygon touches.
+/// - A triangle is referenced by every cell whose box, padded by
+///   `boundary_pad(grid.root_box)`, its clipped polygon touches (Sutherland-Hodgman in
+///   double precision, rounded outward to floats; in subtrees below 4096 triangles a
+///   straddling triangle is clipped once to its node's padded box and each cell's piece read
+///   from that polygon, the same pieces up to double rounding: docs/SPLIT_GRID.md).
 /// - Parallel on oneTBB with config.threads workers; the result is bit-identical for every
 ///   thread count.
 ///

@@ -38,13 +38,14 @@ public:
     /// true for a box inside `box`.
     [[nodiscard]] Aabbd bounds(const Aabbd& box) const noexcept;
 
-    /// Bounding box of the part of the polygon with lower <= p[axis] <= upper, clamped to
-    /// `box`, which must contain that part (the cell box of the slab); false where the part
-    /// is empty. The part of a convex polygon in a slab is spanned by its vertices inside the
-    /// slab and the points where its edges cross the slab's two planes, so no clipping is
-    /// needed: the result equals clipping the triangle to `box` up to rounding.
-    bool slab_bounds(int axis, double lower, double upper, const Aabbd& box,
-                     Aabbd& out) const noexcept;
+    /// Bounding box of the part of the polygon in the slab box.lower[axis] <= p[axis] <=
+    /// box.upper[axis], clamped to `box`; false where the part is empty. The part of a
+    /// convex polygon in a slab is spanned by its vertices inside the slab and the points
+    /// where its edges cross the slab's two planes, so no clipping is needed: the result
+    /// equals clipping the triangle to `box` up to rounding. Precondition: on the other two
+    /// axes `box` contains the polygon (the clamp there only absorbs rounding; a box that
+    /// cut the polygon would give a clamped box, not the clipped one).
+    bool slab_bounds(int axis, const Aabbd& box, Aabbd& out) const noexcept;
 
     /// Room for a triangle clipped by six planes: 3 + 6 vertices, and one spare.
     static constexpr int max_vertices = 9;
