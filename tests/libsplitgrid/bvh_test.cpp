@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "baseline_oracle_cases.hpp"
@@ -166,6 +168,61 @@ TEST(BvhBuild, BadMeshIsAnInputError)
     Mesh mesh = random_triangles(1, 10, baseline_scene_box, 1.0f);
     mesh.vertices[0].z = std::numeric_limits<float>::infinity();
     EXPECT_THROW((void)Bvh::build(mesh.view()), InputError);
+}
+
+// Moves every vertex of `mesh` smoothly: a twist about the y axis plus a wave, as a
+// deforming scene would (and far enough that the refitted boxes differ from the built ones).
+void deform(Mesh& mesh, float amount)
+{
+    for (Vec3f& v : mesh.vertices) {
+        const float angle = amount * (v.y - 5.0f) * 0.15f;
+        const float x = v.x - 5.0f, z = v.z - 5.0f;
+        v = Vec3f{5.0f + x * std::cos(angle) - z * std::sin(angle),
+                  v.y + amount * std::sin(v.x * 0.7f),
+                  5.0f + x * std::sin(angle) + z * std::cos(angle)};
+    }
+}
+
+TEST(BvhRefit, RefittedBvhAnswersLikeBruteForceOnTheMovedMesh)
+{
+    Mesh mesh = random_triangles(21, 3000, baseline_scene_box, 0.8f);
+    mesh.vertices.push_back(Vec3f{40.0f, 40.0f, 40.0f});  // unreferenced: never in a box
+    Bvh bvh = Bvh::build(mesh.view());
+    const Bvh built = bvh;
+    // Nothing moved: the refit computes the very boxes the build did.
+    bvh.refit(mesh.view(), 1);
+    EXPECT_EQ(bvh, built);
+    for (const float amount : {0.5f, 1.5f, -3.0f}) {
+        deform(mesh, amount);
+        bvh.refit(mesh.view(), 1);
+        ASSERT_NO_FATAL_FAILURE(BaselineTraits<Bvh>::check(bvh, mesh.view()));
+        // Same tree, same triangle order: only the boxes moved.
+        ASSERT_EQ(bvh.node_count(), built.node_count());
+        EXPECT_TRUE(std::equal(bvh.refs().begin(), bvh.refs().end(), built.refs().begin()));
+        const Aabb box = bounds(mesh.view());
+        auto rays = random_rays(22, 2000, box);
+        const auto at = rays_at_triangles(23, 2000, box, mesh.view());
+        rays.insert(rays.end(), at.begin(), at.end());
+        const OracleReport report = compare_structure_with_brute_force(bvh, mesh.view(), rays);
+        EXPECT_EQ(report.closest_disagreements, 0u) << report.first_failure;
+        EXPECT_EQ(report.any_hit_disagreements, 0u) << report.first_failure;
+        EXPECT_GT(report.hits, 1000u);
+    }
+    // The refit with all threads gives the same boxes as with one.
+    Bvh again = built;
+    again.refit(mesh.view(), 0);
+    EXPECT_EQ(again, bvh);
+}
+
+TEST(BvhRefit, RefusesAnotherMeshOrABadOne)
+{
+    Mesh mesh = random_triangles(24, 100, baseline_scene_box, 1.0f);
+    Bvh bvh = Bvh::build(mesh.view());
+    Mesh fewer = mesh;
+    fewer.triangles.pop_back();
+    EXPECT_THROW(bvh.refit(fewer.view()), InputError);
+    mesh.vertices[3].x = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_THROW(bvh.refit(mesh.view()), InputError);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <memory>
+#include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -36,6 +37,19 @@ struct PrimRef {
     Aabb box;
     std::uint32_t tri;
 };
+
+// A triangle's box widened by `pad` on each side and rounded outward: the box its leaf must
+// hold (the build's and the refit's).
+Aabb padded_triangle_box(const MeshView& mesh, std::uint32_t tri, float pad) noexcept
+{
+    Aabb box;
+    for (int c = 0; c < 3; ++c) box.extend(mesh.vertex(tri, c));
+    for (int k = 0; k < 3; ++k) {
+        box.lower[k] = detail::float_below(double(box.lower[k]) - pad);
+        box.upper[k] = detail::float_above(double(box.upper[k]) + pad);
+    }
+    return box;
+}
 
 // The coordinate binning and partitioning use: the box centre.
 float centroid(const PrimRef& p, int axis) noexcept
@@ -121,13 +135,7 @@ public:
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               for (std::size_t t = r.begin(); t != r.end(); ++t) {
                                   const auto tri = static_cast<std::uint32_t>(t);
-                                  Aabb box;
-                                  for (int c = 0; c < 3; ++c) box.extend(mesh.vertex(tri, c));
-                                  for (int k = 0; k < 3; ++k) {
-                                      box.lower[k] = detail::float_below(double(box.lower[k]) - pad);
-                                      box.upper[k] = detail::float_above(double(box.upper[k]) + pad);
-                                  }
-                                  prims_[t] = PrimRef{box, tri};
+                                  prims_[t] = PrimRef{padded_triangle_box(mesh, tri, pad), tri};
                               }
                           });
     }
@@ -421,6 +429,39 @@ Bvh Bvh::build(const MeshView& mesh, const BvhConfig& config)
     bvh.nodes_ = std::move(built.nodes);
     bvh.depth_ = built.depth;
     return bvh;
+}
+
+void Bvh::refit(const MeshView& mesh, unsigned threads)
+{
+    detail::check_build_input(mesh, "BVH refit");
+    if (mesh.triangle_count() != triangle_count_)
+        throw InputError("BVH refit: the mesh has " + std::to_string(mesh.triangle_count()) +
+                         " triangles, the BVH was built on " + std::to_string(triangle_count_));
+    if (nodes_.empty()) return;
+    const float pad = boundary_pad(bounds(mesh));
+    detail::run_with_threads(threads, [&] {
+        // Leaves first, in parallel: each reads only its own triangles.
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes_.size(), 4096),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                                  BvhNode& node = nodes_[k];
+                                  if (!node.is_leaf()) continue;
+                                  Aabb box;
+                                  for (std::uint32_t i = 0; i < node.ref_count(); ++i)
+                                      box.extend(padded_triangle_box(
+                                          mesh, refs_[node.first_ref() + i], pad));
+                                  node.bounds = box;
+                              }
+                          });
+    });
+    // Then the inner nodes, children before parents: a node's children always follow it.
+    for (std::size_t k = nodes_.size(); k-- > 0;) {
+        BvhNode& node = nodes_[k];
+        if (node.is_leaf()) continue;
+        Aabb box = nodes_[node.first_child()].bounds;
+        box.extend(nodes_[node.first_child() + 1].bounds);
+        node.bounds = box;
+    }
 }
 
 }  // namespace sg

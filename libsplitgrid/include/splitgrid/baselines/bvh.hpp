@@ -118,6 +118,15 @@ public:
     /// mesh gives an empty BVH on which every query misses.
     [[nodiscard]] static Bvh build(const MeshView& mesh, const BvhConfig& config = {});
 
+    /// Refit for a mesh whose vertices moved: the same triangles (same count and order),
+    /// new positions. Keeps the tree and the triangle order and recomputes every node's box
+    /// from the leaves up, as the build would for that tree (each triangle's box padded by
+    /// the new scene's boundary_pad), so every query stays exact; only its speed depends on
+    /// how far the tree has drifted from what a build would choose. `threads` (as in
+    /// BvhConfig::threads) refit the leaves; the inner nodes, two box unions each, follow in
+    /// one thread. Throws InputError for a bad mesh or a different triangle count.
+    void refit(const MeshView& mesh, unsigned threads = 0);
+
     // Queries (intersect, occluded): StructureQueries (structure_queries.hpp), traversed by
     // src/kernels/bvh_walk.hpp. Counters: nodes_visited = inner nodes whose children were
     // tested, cells_visited = leaves.
