@@ -817,16 +817,29 @@ float boundary_pad(const Aabb& root_box) noexcept
 SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
                            const BuildProgress& progress)
 {
+    SplitGrid grid;
+    rebuild_split_grid(grid, mesh, config, progress);
+    return grid;
+}
+
+void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig& config,
+                        const BuildProgress& progress)
+{
     validate(config);
     check_mesh(mesh);
     if (mesh.triangle_count() > std::size_t{max_referenced_triangle} + 1)
         throw InputError("mesh has more than 2^31 - 1 triangles");
 
-    SplitGrid grid;
+    // The arrays are emptied, not freed: their memory is what a rebuild reuses.
+    grid.nodes.clear();
+    grid.cells.clear();
+    grid.triangle_refs.clear();
+    grid.root = CellRef{};
+    grid.root_box = Aabb{};
     grid.config = config;
     grid.config.threads = 0;  // the thread count does not change the result, so it is not kept
     grid.triangle_count = static_cast<std::uint32_t>(mesh.triangle_count());
-    if (mesh.triangle_count() == 0) return grid;
+    if (mesh.triangle_count() == 0) return;
 
     const Aabb scene = bounds(mesh);
     const float pad = boundary_pad(scene);
@@ -858,7 +871,6 @@ SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
     grid.cells.reserve(size.cells);
     grid.triangle_refs.reserve(size.triangle_refs);
     grid.root = flatten(root, grid);
-    return grid;
 }
 
 }  // namespace sg

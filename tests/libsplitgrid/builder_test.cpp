@@ -61,6 +61,43 @@ TEST(Builder, DepthLimitIsHonoured)
     }
 }
 
+TEST(Builder, RebuildGivesWhatABuildGivesAndReusesTheArrays)
+{
+    // A scene whose vertices move (a dynamic scene), then a smaller one, then an empty one,
+    // rebuilt into the same grid each time; the poster preset in between changes the config.
+    Mesh mesh = test::random_triangles(31, 20000, box10, 0.3f);
+    SplitGrid grid = build_checked(mesh);
+    // The same mesh again: the same sizes, so the very same arrays.
+    const GridNode* nodes = grid.nodes.data();
+    const CellRef* cells = grid.cells.data();
+    const TriangleRef* refs = grid.triangle_refs.data();
+    rebuild_split_grid(grid, mesh.view(), BuildConfig{});
+    EXPECT_TRUE(grid == build_split_grid(mesh.view(), BuildConfig{}));
+    EXPECT_EQ(grid.nodes.data(), nodes);
+    EXPECT_EQ(grid.cells.data(), cells);
+    EXPECT_EQ(grid.triangle_refs.data(), refs);
+
+    for (Vec3f& v : mesh.vertices) v = Vec3f{v.x + 0.3f * std::sin(v.y), v.y, v.z * 0.9f};
+    rebuild_split_grid(grid, mesh.view(), BuildConfig{});
+    EXPECT_TRUE(grid == build_split_grid(mesh.view(), BuildConfig{}));
+
+    const BuildConfig poster = apply_build_preset(BuildConfig{}, "poster");
+    rebuild_split_grid(grid, mesh.view(), poster);
+    EXPECT_TRUE(grid == build_split_grid(mesh.view(), poster));
+
+    const Mesh smaller = test::random_triangles(32, 500, box10, 1.0f);
+    rebuild_split_grid(grid, smaller.view(), BuildConfig{});
+    EXPECT_TRUE(grid == build_split_grid(smaller.view(), BuildConfig{}));
+    const test::OracleReport report = test::compare_with_brute_force(
+        grid, smaller.view(), test::random_rays(33, 2000, box10));
+    EXPECT_EQ(report.closest_disagreements + report.any_hit_disagreements, 0u)
+        << report.first_failure;
+
+    rebuild_split_grid(grid, Mesh{}.view(), BuildConfig{});
+    EXPECT_TRUE(grid == build_split_grid(Mesh{}.view(), BuildConfig{}));
+    EXPECT_TRUE(grid.root.is_empty());
+}
+
 TEST(Builder, EmptyMeshGivesAnEmptyGrid)
 {
     const Mesh mesh;

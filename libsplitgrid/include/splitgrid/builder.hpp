@@ -32,6 +32,13 @@ using BuildProgress = std::function<void(double fraction_done)>;
 [[nodiscard]] SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
                                          const BuildProgress& progress = {});
 
+/// build_split_grid into an existing grid, for a scene rebuilt every frame: `grid` becomes
+/// exactly what build_split_grid(mesh, config, progress) returns, and the memory of its
+/// arrays is reused (they only grow when the new grid needs more). On an exception `grid` is
+/// left empty or partly built, and must be rebuilt before use.
+void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig& config,
+                        const BuildProgress& progress = {});
+
 /// Absolute padding (scene units) added around every cell box when the builder decides which
 /// triangles a cell references: 2^-17 times the largest coordinate magnitude of the root box
 /// (64 float ulps). It absorbs the rounding of the watertight test, which may report a hit a
