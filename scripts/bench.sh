@@ -66,25 +66,42 @@ if [[ "${quick}" != true ]]; then paths+=("${cad_model}"); fi
 "${root_dir}/build/apps/sg-bench" -o "${out}" \
     --scale-model "${meshes}/scanned/stanford_dragon_vrip.ply" "${args[@]}" "$@" "${paths[@]}"
 
+# The dynamic workload, a run of its own: copies of the Stanford bunny (at least 1M triangles)
+# moving rigidly, and the dragon deforming.
 if [[ "${quick}" == true ]]; then
+    dynamic_args=(--dynamic-frames 4 --dynamic-rays 1e3,1e4 --dynamic-triangles 100000
+                  --dynamic-rigid "${meshes}/scanned/bunny_npm.obj"
+                  --dynamic-deform "${meshes}/scanned/stanford_dragon_vrip_res4.ply")
+else
+    dynamic_args=(--dynamic-frames 30 --dynamic-rays 1e4,1e5,1e6 --dynamic-triangles 1000000
+                  --dynamic-rigid "${meshes}/scanned/stanford_bunny.obj"
+                  --dynamic-deform "${meshes}/scanned/stanford_dragon_vrip.ply")
+fi
+"${root_dir}/build/apps/sg-bench" -o "${out}/dynamic" "${dynamic_args[@]}" "$@"
+
+if [[ "${quick}" == true ]]; then
+    cp "${out}/dynamic/dynamic.png" "${out}/dynamic.png" 2>/dev/null || true
     /usr/bin/python3 "${root_dir}/scripts/bench_report.py" "${out}/results.json" "${out}" "" \
-        > "${out}/RESULTS.md"
+        "${out}/dynamic/results.json" > "${out}/RESULTS.md"
     echo "bench.sh: report in ${out}/RESULTS.md"
 else
-    for chart in figure3 speed_vs_accuracy sweep_build_vs_trace memory_scaling; do
+    cp "${out}/dynamic/dynamic.png" "${out}/dynamic.png" 2>/dev/null || true
+    for chart in figure3 speed_vs_accuracy sweep_build_vs_trace memory_scaling dynamic; do
         if [[ -f "${out}/${chart}.png" ]]; then
             cp "${out}/${chart}.png" "${root_dir}/docs/images/bench_${chart}.png"
         fi
     done
     /usr/bin/python3 "${root_dir}/scripts/bench_report.py" "${out}/results.json" "${out}" \
-        "images/bench_" > "${root_dir}/docs/RESULTS.md.tmp"
+        "images/bench_" "${out}/dynamic/results.json" > "${root_dir}/docs/RESULTS.md.tmp"
     mv "${root_dir}/docs/RESULTS.md.tmp" "${root_dir}/docs/RESULTS.md"
-    # The same JSON with the scene files named relative to the meshes folder, as the report
+    # The same JSONs with the scene files named relative to the meshes folder, as the report
     # names them: no machine's absolute path in docs/.
-    /usr/bin/python3 - "${out}/results.json" "${meshes}/" > "${root_dir}/docs/results.json" <<'EOF'
+    for pair in "results.json:results.json" "dynamic/results.json:dynamic.json"; do
+        /usr/bin/python3 - "${out}/${pair%%:*}" "${meshes}/" > "${root_dir}/docs/${pair##*:}" <<'EOF'
 import json, sys
 text = open(sys.argv[1]).read().replace(json.dumps(sys.argv[2])[1:-1], "")
 json.dump(json.loads(text), sys.stdout, indent=1)
 EOF
+    done
     echo "bench.sh: report in docs/RESULTS.md, charts in docs/images/bench_*.png"
 fi

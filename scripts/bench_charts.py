@@ -14,6 +14,8 @@ else, warnings and errors, goes to stderr):
                           marker area proportional to bytes per triangle
   memory_scaling.png      bytes, references and peak build memory per triangle against
                           scene size
+  dynamic.png             the dynamic workload: time per frame (update + trace) against rays
+                          per frame, per scene and structure
 Charts whose data the run did not measure (no sweep, no scale series) are skipped.
 """
 
@@ -27,30 +29,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-STRUCTURE_COLOURS = {
-    "splitgrid": "#d62728",
-    "splitgrid_poster": "#ff9896",
-    "uniform_grid": "#7f7f7f",
-    "kd_tree": "#2ca02c",
-    "bvh": "#1f77b4",
-    "embree": "#9467bd",
-}
-STRUCTURE_LABELS = {
-    "splitgrid": "Split Grid",
-    "splitgrid_poster": "Split Grid (poster)",
-    "uniform_grid": "uniform grid",
-    "kd_tree": "kd-tree",
-    "bvh": "BVH",
-    "embree": "Embree 3",
-}
-
-
-def colour(name):
-    return STRUCTURE_COLOURS.get(name, "#000000")
-
-
-def label(name):
-    return STRUCTURE_LABELS.get(name, name)
+from bench_common import colour, crossing, frame_line, human, label  # noqa: E402
 
 
 def save(fig, path):
@@ -111,13 +90,6 @@ def figure3(results, out_dir):
     path = os.path.join(out_dir, "figure3.png")
     save(fig, path)
     return path
-
-
-def human(n):
-    for unit, scale in (("M", 1e6), ("k", 1e3)):
-        if n >= scale:
-            return "%.3g%s" % (n / scale, unit)
-    return str(n)
 
 
 def speed_vs_accuracy(results, out_dir):
@@ -212,6 +184,59 @@ def memory_scaling(results, out_dir):
     return path
 
 
+def dynamic(results, out_dir):
+    scenes = results.get("dynamic") or []
+    if not scenes:
+        return None
+    fig, axes = plt.subplots(1, len(scenes), figsize=(7.5 * len(scenes), 6), squeeze=False)
+    for ax, d in zip(axes[0], scenes):
+        measured = d["rays_per_frame"]
+        top = max(measured[-1] * 10, 1e7)
+        xs = [measured[0] / 10 * (10 ** (k / 20)) for k in range(0, 1000)]
+        xs = [x for x in xs if x <= top]
+        for s in d["structures"]:
+            update, per_ray = frame_line(s, measured)
+            style = "--" if s["structure"].endswith(("_refit", "_low")) else "-"
+            inside = [x for x in xs if x <= measured[-1]]
+            beyond = [x for x in xs if x >= measured[-1]]
+            few = len(s["frames_run"]) < d["frames"]
+            name = label(s["structure"]) + (" (%d frames)" % len(s["frames_run"]) if few else "")
+            ax.plot(inside, [1e3 * (update + per_ray * x) for x in inside], style,
+                    color=colour(s["structure"]), label=name)
+            ax.plot(beyond, [1e3 * (update + per_ray * x) for x in beyond], style,
+                    color=colour(s["structure"]), alpha=0.35)
+            ax.plot(measured, [1e3 * t for t in s["frame_seconds_median"]], "o",
+                    color=colour(s["structure"]), markersize=4)
+        by_name = {s["structure"]: s for s in d["structures"]}
+        ours = by_name.get("splitgrid")
+        notes = []
+        for other in ("embree", "embree_low", "embree_refit", "bvh", "bvh_refit"):
+            if ours and other in by_name:
+                x = crossing(ours, by_name[other], measured)
+                if x and x <= top:
+                    ax.axvline(x, color=colour(other), linewidth=0.6, alpha=0.5)
+                    notes.append("%s at %.3g" % (label(other), x))
+        ax.axvspan(measured[-1], top, color="#eeeeee", zorder=0)
+        ax.text(measured[-1] * 1.1, 0.02, "extrapolated",
+                transform=ax.get_xaxis_transform(), fontsize=8, color="#555555")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("path rays per frame (%d threads)" % d["threads"])
+        ax.set_ylabel("time per frame: update + trace (ms, %s)" % (
+            "median of frames 1-%d" % (d["frames"] - 1) if d["frames"] > 1 else "frame 0"))
+        title = "%s: %s triangles, %s" % (d["scene"], "{:,}".format(d["triangles"]), d["motion"])
+        if notes:
+            title += "\nSplit Grid line crosses " + ", ".join(notes) + " rays"
+        elif ours:
+            title += "\nthe Split Grid's line crosses no Embree or BVH line up to %.0e rays" % top
+        ax.set_title(title, fontsize=9)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7, loc="upper left")
+    path = os.path.join(out_dir, "dynamic.png")
+    save(fig, path)
+    return path
+
+
 def main(argv):
     if len(argv) != 3:
         sys.stderr.write("usage: bench_charts.py RESULTS_JSON OUT_DIR\n")
@@ -226,7 +251,8 @@ def main(argv):
         sys.stderr.write("error: %s: not an sg-bench results file (schema_version 1)\n" % argv[1])
         return 2
     made = [p for p in (figure3(results, argv[2]), speed_vs_accuracy(results, argv[2]),
-                        sweep(results, argv[2]), memory_scaling(results, argv[2])) if p]
+                        sweep(results, argv[2]), memory_scaling(results, argv[2]),
+                        dynamic(results, argv[2])) if p]
     for p in made:
         print("wrote %s" % p)
     return 0

@@ -1,12 +1,14 @@
 #!/usr/bin/python3
 """Writes the results report of an sg-bench run as Markdown.
 
-Usage: bench_report.py RESULTS_JSON CHARTS_DIR IMAGE_PREFIX > RESULTS.md
+Usage: bench_report.py RESULTS_JSON CHARTS_DIR IMAGE_PREFIX [DYNAMIC_JSON] > RESULTS.md
 
 CHARTS_DIR holds the charts bench_charts.py made for the run; they are referred to as
 IMAGE_PREFIX + name (e.g. "images/bench_" for docs/images/bench_figure3.png; scripts/bench.sh
 copies them there). Every figure in the report comes from the JSON; the verdicts on the
-poster's claims and the issue's targets are computed, not written by hand. The report names
+poster's claims and the issue's targets are computed, not written by hand. DYNAMIC_JSON is
+the results.json of a run of the dynamic workload alone (scripts/bench.sh makes one); its
+section is written from it, and from RESULTS_JSON's own "dynamic" key when it has one. The report names
 scene files relative to the folder that holds them all, never by a machine's absolute path.
 """
 
@@ -15,13 +17,9 @@ import os
 import statistics
 import sys
 
-LABELS = {"splitgrid": "Split Grid", "splitgrid_poster": "Split Grid (poster)",
-          "uniform_grid": "uniform grid", "kd_tree": "kd-tree", "bvh": "BVH", "embree": "Embree 3"}
+from bench_common import crossing, frame_line, human, label
+
 OURS = ["splitgrid", "splitgrid_poster", "uniform_grid", "kd_tree", "bvh"]
-
-
-def label(name):
-    return LABELS.get(name, name)
 
 
 def structure(scene, name):
@@ -49,13 +47,6 @@ def fmt(x, digits=2):
 
 def ratio(a, b):
     return a / b if b else float("nan")
-
-
-def human(n):
-    for unit, scale in (("M", 1e6), ("k", 1e3)):
-        if n >= scale:
-            return "%.3g%s" % (n / scale, unit)
-    return str(n)
 
 
 ARENA_SOURCE = " arranged to "
@@ -366,12 +357,99 @@ def build_targets(w, scenes, threads):
     w("")
 
 
+def embree_rate(scenes):
+    """Embree's disagreements per million rays over the dynamic scenes, as a clause."""
+    rays = differ = 0
+    for d in scenes:
+        per_frame = sum(d["rays_per_frame"])
+        for s in d["structures"]:
+            if s["structure"].startswith("embree"):
+                rays += per_frame * len(s["frames_run"])
+                differ += s["disagreements"]
+    if not rays:
+        return ""
+    return " (Embree's: %.1f per million rays, from its triangle test, which is not ours)" % (
+        1e6 * differ / rays)
+
+
+def dynamic_section(w, scenes, charts, prefix):
+    """The dynamic workload: per scene, each structure's update and trace times, and where
+    the Split Grid's time per frame crosses the others'."""
+    w("## Dynamic scenes\n")
+    w("Every frame, each structure is brought up to date with the moved vertices (rebuilt, or "
+      "refitted where the name says so) and then traces one frame of the path workload at "
+      "each ray budget. Times in ms per frame, medians over the frames after the first (the "
+      "first is everyone's initial build); *per ray* is the largest budget's trace time per "
+      "ray, in ns. Disagreements: closest hits unlike the reference's (our BVH, refitted every "
+      "frame), on every ray of every frame: exact for our structures, t within 1e-4 for "
+      "Embree's%s. How it is run: [BENCH.md](BENCH.md#dynamic-scenes).\n" % embree_rate(scenes))
+    root = common_folder([d["source"].partition(", ")[0] for d in scenes])
+    if os.path.exists(os.path.join(charts, "dynamic.png")):
+        w("![time per frame against rays per frame](%sdynamic.png)\n" % prefix)
+    for d in scenes:
+        budgets = d["ray_budgets"]
+        measured = d["rays_per_frame"]
+        w("### %s (%s triangles, %d frames, %s)\n" % (
+            d["scene"], "{:,}".format(d["triangles"]), d["frames"], thread_count(str(d["threads"]))))
+        # "FILE, how it moves": the file named as every scene file is.
+        model, _, motion = d["source"].partition(", ")
+        w("Source: %s, %s.\n" % (shown_path(model, root), motion))
+        head = ["structure", "frames", "first build (s)", "update"] + \
+            ["trace %s" % human(b) for b in budgets] + ["frame %s" % human(b) for b in budgets] + \
+            ["per ray (ns)", "disagree"]
+        w("| " + " | ".join(head) + " |")
+        w("|---|" + "---:|" * (len(head) - 1))
+        for s in d["structures"]:
+            _, per_ray = frame_line(s, measured)
+            cells = [label(s["structure"]), str(len(s["frames_run"])),
+                     fmt(s["first_update_seconds"], 3), fmt(1e3 * s["update_seconds_median"], 1)]
+            cells += [fmt(1e3 * t, 1) for t in s["trace_seconds_median"]]
+            cells += [fmt(1e3 * t, 1) for t in s["frame_seconds_median"]]
+            cells += [fmt(1e9 * per_ray, 0), str(s["disagreements"])]
+            w("| " + " | ".join(cells) + " |")
+        w("")
+        by_name = {s["structure"]: s for s in d["structures"]}
+        ours = by_name.get("splitgrid")
+        if not ours:
+            continue
+        for other in ("embree", "embree_low", "embree_refit", "bvh", "bvh_refit"):
+            if other not in by_name:
+                continue
+            o = by_name[other]
+            x = crossing(ours, o, measured)
+            u_ours, c_ours = frame_line(ours, measured)
+            u_other, c_other = frame_line(o, measured)
+            if x is None:
+                # The lines keep their order at every positive ray count: the one ahead
+                # with no rays is ahead everywhere.
+                faster = (u_ours, c_ours) <= (u_other, c_other)
+                w("- against %s: no crossing; %s at every ray count." % (
+                    label(other), "the Split Grid is ahead" if faster else label(other) + " is ahead"))
+                continue
+            below = "the Split Grid" if u_ours < u_other else label(other)
+            above = label(other) if u_ours < u_other else "the Split Grid"
+            if x > 10 * measured[-1]:
+                w("- against %s: the lines would cross only at %s rays per frame, %.0f times "
+                  "the largest budget, far beyond what was measured; up to there %s is ahead."
+                  % (label(other), "{:.2g}".format(x), x / measured[-1], below))
+                continue
+            where = "within the measured range" if x <= measured[-1] else "extrapolated"
+            w("- against %s: the lines cross at %s rays per frame (%s): %s is ahead below, "
+              "%s above." % (label(other), "{:,.0f}".format(x), where, below, above))
+        w("")
+
+
 def main(argv):
-    if len(argv) != 4:
-        sys.stderr.write("usage: bench_report.py RESULTS_JSON CHARTS_DIR IMAGE_PREFIX\n")
+    if len(argv) not in (4, 5):
+        sys.stderr.write("usage: bench_report.py RESULTS_JSON CHARTS_DIR IMAGE_PREFIX "
+                         "[DYNAMIC_JSON]\n")
         return 1
     with open(argv[1]) as f:
         r = json.load(f)
+    dynamic = list(r.get("dynamic") or [])
+    if len(argv) == 5:
+        with open(argv[4]) as f:
+            dynamic += json.load(f).get("dynamic") or []
     charts, prefix = argv[2], argv[3]
     plan = r["plan"]
     threads = [str(t) for t in plan["thread_counts"]]
@@ -604,6 +682,8 @@ def main(argv):
                                                       p["build_seconds"]) if p else "-")
             w("| %s | %s |" % ("{:,}".format(n), " | ".join(cells)))
         w("")
+    if dynamic:
+        dynamic_section(w, dynamic, charts, prefix)
     sys.stdout.write("\n".join(out) + "\n")
     return 0
 

@@ -257,4 +257,96 @@ std::string results_table(const BenchResults& results, const BenchPlan& plan)
     return out;
 }
 
+namespace {
+
+// Steady-state medians of one structure: update, and trace and frame time per budget.
+struct FrameMedians {
+    double update = 0.0;
+    std::vector<double> trace;
+    std::vector<double> frame;
+};
+
+FrameMedians frame_medians(const DynamicStructureResult& s)
+{
+    FrameMedians m;
+    m.update = steady_median(s.frames, s.update_seconds);
+    for (const std::vector<double>& t : s.trace_seconds) {
+        m.trace.push_back(steady_median(s.frames, t));
+        std::vector<double> sums;
+        for (std::size_t k = 0; k < t.size() && k < s.update_seconds.size(); ++k)
+            sums.push_back(s.update_seconds[k] + t[k]);
+        m.frame.push_back(steady_median(s.frames, sums));
+    }
+    return m;
+}
+
+}  // namespace
+
+Json dynamic_json(const std::vector<DynamicResult>& results)
+{
+    Json all = Json::array();
+    for (const DynamicResult& d : results) {
+        Json j;
+        j["scene"] = d.scene;
+        j["source"] = d.source;
+        j["motion"] = d.motion;
+        j["triangles"] = d.triangles;
+        j["frames"] = d.frames;
+        j["threads"] = d.threads;
+        j["ray_budgets"] = d.ray_budgets;
+        j["rays_per_frame"] = d.rays_per_frame;
+        Json images = Json::array();
+        for (const auto& [w, h] : d.images) images.push_back({w, h});
+        j["images"] = images;
+        Json structures = Json::array();
+        for (const DynamicStructureResult& s : d.structures) {
+            const FrameMedians m = frame_medians(s);
+            Json sj;
+            sj["structure"] = s.structure;
+            sj["frames_run"] = s.frames;
+            sj["update_seconds"] = s.update_seconds;
+            sj["trace_seconds"] = s.trace_seconds;
+            sj["first_update_seconds"] = s.update_seconds.empty() ? 0.0 : s.update_seconds.front();
+            sj["update_seconds_median"] = m.update;
+            sj["trace_seconds_median"] = m.trace;
+            sj["frame_seconds_median"] = m.frame;
+            sj["disagreements"] = s.disagreements;
+            structures.push_back(sj);
+        }
+        j["structures"] = structures;
+        all.push_back(j);
+    }
+    return all;
+}
+
+std::string dynamic_table(const std::vector<DynamicResult>& results)
+{
+    std::string out;
+    for (const DynamicResult& d : results) {
+        out += fmt::format("\n{} ({} triangles, {} frames, {} thread{}; {})\n", d.scene,
+                           d.triangles, d.frames, d.threads, d.threads == 1 ? "" : "s", d.source);
+        out += fmt::format("  {:<16} {:>6} {:>9} {:>10}", "structure", "frames", "first s",
+                           "update ms");
+        for (const std::size_t b : d.ray_budgets)
+            out += fmt::format(" {:>11}", fmt::format("trace {:g}", static_cast<double>(b)));
+        for (const std::size_t b : d.ray_budgets)
+            out += fmt::format(" {:>11}", fmt::format("frame {:g}", static_cast<double>(b)));
+        out += fmt::format(" {:>9}\n", "disagree");
+        for (const DynamicStructureResult& s : d.structures) {
+            const FrameMedians m = frame_medians(s);
+            out += fmt::format("  {:<16} {:>6} {:>9.3f} {:>10.2f}", s.structure, s.frames.size(),
+                               s.update_seconds.empty() ? 0.0 : s.update_seconds.front(),
+                               1e3 * m.update);
+            for (const double t : m.trace) out += fmt::format(" {:>11.2f}", 1e3 * t);
+            for (const double t : m.frame) out += fmt::format(" {:>11.2f}", 1e3 * t);
+            out += fmt::format(" {:>9}\n", s.disagreements);
+        }
+    }
+    if (!results.empty())
+        out += "\n  ms per frame, medians over the frames after the first; first s = the "
+               "first frame's build;\n  trace/frame N = tracing N path rays / update + tracing; "
+               "disagree = closest hits unlike the reference's (our BVH, refitted).\n";
+    return out;
+}
+
 }  // namespace sg::bench

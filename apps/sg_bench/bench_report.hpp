@@ -3,6 +3,7 @@
 #include <string>
 
 #include "bench_run.hpp"
+#include "dynamic.hpp"
 #include "cli_common.hpp"
 
 /// sg-bench's outputs: the JSON document (docs/BENCH.md gives every key), the CSV table and
@@ -29,5 +30,12 @@ struct RunInfo {
 /// Fixed-width tables for a terminal: per scene the structures' build time, memory and
 /// Mrays/s per workload with the ratio to Embree, then the accuracy, sweep and scale tables.
 [[nodiscard]] std::string results_table(const BenchResults& results, const BenchPlan& plan);
+
+/// The dynamic workload's scenes as JSON (the "dynamic" key; docs/BENCH.md).
+[[nodiscard]] apps::Json dynamic_json(const std::vector<DynamicResult>& results);
+
+/// Per dynamic scene and structure: update time, trace time and their sum per frame at each
+/// ray budget (medians over the frames after the first).
+[[nodiscard]] std::string dynamic_table(const std::vector<DynamicResult>& results);
 
 }  // namespace sg::bench

@@ -62,18 +62,6 @@ double mrays(std::size_t rays, double seconds)
     return seconds > 0.0 ? static_cast<double>(rays) / seconds * 1e-6 : 0.0;
 }
 
-// Same closest hit. Exact (our structures, which share the watertight test): both miss, or
-// the same t (the same triangle, or a tie between two at exactly that t). Otherwise (Embree,
-// whose test differs): the same triangle, or t within 1e-4 relative.
-bool same_hit(const Hit& a, const Hit& b, bool exact)
-{
-    if (a.is_hit() != b.is_hit()) return false;
-    if (!a.is_hit()) return true;
-    if (a.t == b.t || a.triangle == b.triangle) return true;
-    if (exact) return false;
-    return std::abs(a.t - b.t) <= 1e-4f * std::max(1.0f, std::abs(a.t));
-}
-
 std::size_t count_disagreements(const Answers& reference, const Answers& other, bool any_hit,
                                 bool exact)
 {
@@ -517,6 +505,25 @@ Mesh scale_scene(const MeshView& model, std::size_t triangles, std::uint32_t see
         std::max<std::size_t>(1, (triangles + n / 2) / n));
     config.seed = seed;
     return make_arena_scene(model, config);
+}
+
+bool same_hit(const Hit& a, const Hit& b, bool exact)
+{
+    if (a.is_hit() != b.is_hit()) return false;
+    if (!a.is_hit()) return true;
+    if (a.t == b.t || a.triangle == b.triangle) return true;
+    if (exact) return false;
+    return std::abs(a.t - b.t) <= 1e-4f * std::max(1.0f, std::abs(a.t));
+}
+
+double trace_closest(const BenchStructure& s, std::span<const Ray> rays, unsigned threads,
+                     std::vector<Hit>& hits)
+{
+    Answers answers;
+    answers.hits = std::move(hits);
+    const double seconds = trace(s, rays, false, threads, QueryVariant{}, answers);
+    hits = std::move(answers.hits);
+    return seconds;
 }
 
 BenchResults run_bench(const std::vector<BenchScene>& scenes, const BenchScene& scale_model,

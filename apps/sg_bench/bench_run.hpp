@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -151,6 +152,16 @@ using BenchLog = std::function<void(const std::string& line)>;
 [[nodiscard]] BenchResults run_bench(const std::vector<BenchScene>& scenes,
                                      const BenchScene& scale_model, const BenchPlan& plan,
                                      const BenchLog& log);
+
+/// Same closest hit. Exact (our structures, which share the watertight test): both miss, or
+/// the same t (the same triangle, or a tie between two at exactly that t). Otherwise (Embree,
+/// whose test differs): the same triangle, or t within 1e-4 relative.
+[[nodiscard]] bool same_hit(const Hit& a, const Hit& b, bool exact);
+
+/// Closest hits of `rays` into `hits` (resized to match), traced with `threads` threads as
+/// every workload is; returns the wall time in seconds.
+double trace_closest(const BenchStructure& s, std::span<const Ray> rays, unsigned threads,
+                     std::vector<Hit>& hits);
 
 /// A scene of `triangles` triangles made from `model`: a patch of the model (its triangles
 /// nearest to one surface point) when it has more, otherwise an arena of copies

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "splitgrid/builder.hpp"
@@ -35,12 +37,22 @@ void count_in_chunks(std::span<const Ray> rays, bool any_hit, const Query& query
 
 class SplitGridStructure final : public BenchStructure {
 public:
-    SplitGridStructure(const MeshView& mesh, BuildConfig config, unsigned threads) : mesh_(mesh)
+    SplitGridStructure(const MeshView& mesh, BuildConfig config, unsigned threads)
+        : mesh_(mesh), config_(config)
     {
-        config.threads = threads;
+        config_.threads = threads;
         const auto start = std::chrono::steady_clock::now();
-        grid_ = build_split_grid(mesh, config);
+        grid_ = build_split_grid(mesh, config_);
         build_seconds_ = seconds_since(start);
+    }
+    /// Builds again on `moved` (the same arrays, vertices moved) into the grid's own memory
+    /// (rebuild_split_grid); returns the seconds it took.
+    double rebuild(const MeshView& moved)
+    {
+        mesh_ = moved;
+        const auto start = std::chrono::steady_clock::now();
+        rebuild_split_grid(grid_, moved, config_);
+        return seconds_since(start);
     }
     double build_seconds() const override { return build_seconds_; }
     std::size_t structure_bytes() const override { return grid_.memory_bytes(); }
@@ -68,6 +80,7 @@ public:
 
 private:
     MeshView mesh_;
+    BuildConfig config_;
     SplitGrid grid_;
     double build_seconds_ = 0.0;
 };
@@ -108,13 +121,112 @@ public:
         return true;
     }
 
+    /// The structure itself, for the dynamic workload's refit.
+    Structure& get() noexcept { return structure_; }
+
 private:
     MeshView mesh_;
     Structure structure_;
     double build_seconds_ = 0.0;
 };
 
+// Any structure, built anew on every frame (the one before released first, so that its
+// memory goes back to the allocator for the new build).
+class RebuiltEachFrame final : public FrameStructureBase {
+public:
+    RebuiltEachFrame(std::string name, const MeshView& mesh, const StructureConfigs& configs,
+                     unsigned threads)
+        : name_(std::move(name)), configs_(configs), threads_(threads),
+          built_(build_structure(name_, mesh, configs_, threads_))
+    {
+    }
+    const BenchStructure& structure() const override { return *built_; }
+
+protected:
+    double next_frame(const MeshView& moved) override
+    {
+        built_.reset();
+        built_ = build_structure(name_, moved, configs_, threads_);
+        return built_->build_seconds();
+    }
+
+private:
+    std::string name_;
+    StructureConfigs configs_;
+    unsigned threads_;
+    std::unique_ptr<BenchStructure> built_;
+};
+
+// The Split Grid rebuilt on every frame into the memory of the one before
+// (rebuild_split_grid).
+class SplitGridRebuilt final : public FrameStructureBase {
+public:
+    SplitGridRebuilt(const MeshView& mesh, const BuildConfig& config, unsigned threads)
+        : grid_(mesh, config, threads)
+    {
+    }
+    const BenchStructure& structure() const override { return grid_; }
+
+protected:
+    double next_frame(const MeshView& moved) override { return grid_.rebuild(moved); }
+
+private:
+    SplitGridStructure grid_;
+};
+
+// Our BVH built on the first frame and refitted on every later one.
+class BvhRefitted final : public FrameStructureBase {
+public:
+    BvhRefitted(const MeshView& mesh, const BvhConfig& config, unsigned threads)
+        : bvh_(mesh, config, threads), threads_(threads)
+    {
+    }
+    const BenchStructure& structure() const override { return bvh_; }
+
+protected:
+    double next_frame(const MeshView& moved) override
+    {
+        const auto start = std::chrono::steady_clock::now();
+        bvh_.get().refit(moved, threads_);
+        return seconds_since(start);
+    }
+
+private:
+    BaselineStructure<Bvh> bvh_;
+    unsigned threads_;
+};
+
 }  // namespace
+
+std::vector<std::string> frame_structure_names()
+{
+    std::vector<std::string> names = structure_names();
+    names.push_back("bvh_refit");
+    if (has_embree()) {
+        names.push_back("embree_low");
+        names.push_back("embree_refit");
+    }
+    return names;
+}
+
+std::unique_ptr<FrameStructure> make_frame_structure(const std::string& name,
+                                                     const MeshView& mesh,
+                                                     const StructureConfigs& configs,
+                                                     unsigned threads)
+{
+    if (name == "splitgrid")
+        return std::make_unique<SplitGridRebuilt>(mesh, configs.split_grid, threads);
+    if (name == "splitgrid_poster")
+        return std::make_unique<SplitGridRebuilt>(
+            mesh, apply_build_preset(configs.split_grid, "poster"), threads);
+    if (name == "bvh_refit") return std::make_unique<BvhRefitted>(mesh, configs.bvh, threads);
+    if (has_embree()) {
+        if (name == "embree") return embree_frames(mesh, EmbreeFrameMode::medium, threads);
+        if (name == "embree_low") return embree_frames(mesh, EmbreeFrameMode::low, threads);
+        if (name == "embree_refit") return embree_frames(mesh, EmbreeFrameMode::refit, threads);
+    }
+    return std::make_unique<RebuiltEachFrame>(name, mesh, configs, threads);
+}
 
 std::string variant_name(const QueryVariant& variant)
 {

@@ -104,4 +104,67 @@ struct StructureConfigs {
 [[nodiscard]] std::unique_ptr<BenchStructure> build_embree(const MeshView& mesh, bool robust,
                                                            unsigned threads);
 
+/// A structure kept over the frames of a dynamic scene (dynamic.hpp): made on the first
+/// frame's mesh, then brought up to date with every later frame's vertex positions. The
+/// mesh's arrays stay where they are (the vertices are overwritten in place), so a structure
+/// may keep views of them.
+class FrameStructure {
+public:
+    virtual ~FrameStructure() = default;
+    /// Brings the structure up to date with `moved` (the mesh it was made on, vertices
+    /// moved); returns the seconds that took. The first call returns the time of the build
+    /// the constructor made, on the mesh it was made on.
+    virtual double update(const MeshView& moved) = 0;
+    /// The structure as it stands, for tracing; valid until the next update() (a rebuild
+    /// replaces it).
+    [[nodiscard]] virtual const BenchStructure& structure() const = 0;
+};
+
+/// The usual shape of a FrameStructure: the constructor builds (that build is frame 0's
+/// update); every later frame calls next_frame.
+class FrameStructureBase : public FrameStructure {
+public:
+    double update(const MeshView& moved) final
+    {
+        if (!first_done_) {
+            first_done_ = true;
+            return structure().build_seconds();
+        }
+        return next_frame(moved);
+    }
+
+protected:
+    /// Brings the structure up to date with `moved`; returns the seconds that took.
+    virtual double next_frame(const MeshView& moved) = 0;
+
+private:
+    bool first_done_ = false;
+};
+
+/// How Embree follows a dynamic scene: rebuilds at MEDIUM quality (its default, as in the
+/// static runs); or, with the DYNAMIC scene flag and scene quality LOW (its two-level
+/// structure, the only one that heeds a geometry's quality), rebuilds the geometry at LOW
+/// quality (its Morton builder) or refits the geometry's first tree (quality REFIT).
+enum class EmbreeFrameMode { medium, low, refit };
+
+/// Embree over the frames of a dynamic scene (one device and scene for all frames). Embree
+/// reads the mesh's vertex array in place (no copy), so the array must be followed by at
+/// least 4 readable bytes. Only in builds with SG_WITH_EMBREE.
+[[nodiscard]] std::unique_ptr<FrameStructure> embree_frames(const MeshView& mesh,
+                                                            EmbreeFrameMode mode,
+                                                            unsigned threads);
+
+/// Names of the ways a structure can follow a dynamic scene, in report order: every
+/// structure_names() entry rebuilt on each frame ("embree": its scene committed again at
+/// MEDIUM), then "bvh_refit" (our BVH built on the first frame and refitted, Bvh::refit),
+/// and with Embree "embree_low" and "embree_refit" (EmbreeFrameMode).
+[[nodiscard]] std::vector<std::string> frame_structure_names();
+
+/// Makes `name` (one of frame_structure_names()) over the first frame `mesh` with `threads`
+/// worker threads. Throws ConfigError for an unknown name.
+[[nodiscard]] std::unique_ptr<FrameStructure> make_frame_structure(const std::string& name,
+                                                                   const MeshView& mesh,
+                                                                   const StructureConfigs& configs,
+                                                                   unsigned threads);
+
 }  // namespace sg::bench

@@ -53,6 +53,13 @@ struct Options {
     fs::path scale_model;
     std::string scale_sizes_text;
     std::string arena_sizes_text;
+    std::vector<fs::path> dynamic_rigid;
+    std::vector<fs::path> dynamic_deform;
+    std::uint32_t dynamic_frames = 30;
+    std::size_t dynamic_triangles = 1'000'000;
+    std::string dynamic_rays_text = "1e4,1e5,1e6";
+    std::string dynamic_structures_text;
+    bool dynamic_every_frame = false;
     bool no_sweep = false;
     bool no_charts = false;
     fs::path charts_script = SG_BENCH_CHARTS_SCRIPT;
@@ -82,8 +89,10 @@ std::vector<std::string> split_list(const std::string& text)
     return items;
 }
 
-/// "1e6" or "2500000" as a triangle count in [1, 4e9]; a usage error otherwise.
-std::vector<std::size_t> counts_of(const std::string& text, const char* flag)
+/// "1e6" or "2500000" as a count of `what` (triangles, rays) in [1, 4e9]; a usage error
+/// otherwise.
+std::vector<std::size_t> counts_of(const std::string& text, const char* flag,
+                                   const char* what = "triangle")
 {
     std::vector<std::size_t> counts;
     for (const std::string& item : split_list(text)) {
@@ -91,7 +100,7 @@ std::vector<std::size_t> counts_of(const std::string& text, const char* flag)
         const auto [ptr, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
         if (ec != std::errc{} || ptr != item.data() + item.size() || !(value >= 1.0 && value <= 4e9))
             throw CLI::ValidationError(
-                fmt::format("{}: {} is not a triangle count in [1, 4e9]", flag, item));
+                fmt::format("{}: {} is not a {} count in [1, 4e9]", flag, item, what));
         counts.push_back(static_cast<std::size_t>(std::llround(value)));
     }
     return counts;
@@ -133,12 +142,16 @@ constexpr Chart charts[] = {
     {"speed_vs_accuracy.png", "the watertightness workload (--watertight-rays above 0)"},
     {"sweep_build_vs_trace.png", "the parameter sweep (left out by --no-sweep)"},
     {"memory_scaling.png", "the scale series (--scale-sizes)"},
+    {"dynamic.png", "the dynamic workload (--dynamic-rigid or --dynamic-deform)"},
 };
 
 /// Whether the run measures what `chart` draws.
-bool chart_has_data(const Chart& chart, const BenchPlan& plan, bool has_scale_model)
+bool chart_has_data(const Chart& chart, const BenchPlan& plan, bool has_scale_model,
+                    bool has_scenes, bool has_dynamic)
 {
     const std::string file = chart.file;
+    if (file == "dynamic.png") return has_dynamic;
+    if (!has_scenes) return false;
     if (file == "speed_vs_accuracy.png") return plan.watertight_rays > 0;
     if (file == "sweep_build_vs_trace.png") return plan.sweep;
     if (file == "memory_scaling.png") return !plan.scale_sizes.empty() && has_scale_model;
@@ -326,13 +339,46 @@ void bench(CLI::App& app, Options& o)
     plan.thread_counts = thread_counts_of(o.threads_text);
     plan.scale_sizes = counts_of(o.scale_sizes_text, "--scale-sizes");
     const std::vector<std::size_t> arena_sizes = counts_of(o.arena_sizes_text, "--arena-sizes");
-    if (o.meshes.empty() && (arena_sizes.empty() || o.scale_model.empty()))
-        throw CLI::ValidationError("give at least one MESH (or --arena-sizes with --scale-model)");
+    const bool dynamic = !o.dynamic_rigid.empty() || !o.dynamic_deform.empty();
+    if (o.meshes.empty() && (arena_sizes.empty() || o.scale_model.empty()) && !dynamic)
+        throw CLI::ValidationError("give at least one MESH (or --arena-sizes with --scale-model, "
+                                   "or a dynamic scene)");
+    sg::bench::DynamicPlan dynamic_plan;
+    if (dynamic) {
+        const std::vector<std::string> names = split_list(o.dynamic_structures_text);
+        dynamic_plan.structures = names.empty() ? sg::bench::frame_structure_names() : names;
+        const auto known = sg::bench::frame_structure_names();
+        for (auto s = dynamic_plan.structures.begin(); s != dynamic_plan.structures.end(); ++s) {
+            if (std::find(known.begin(), known.end(), *s) == known.end())
+                throw CLI::ValidationError(fmt::format(
+                    "--dynamic-structures: unknown structure '{}' (this build knows {})", *s,
+                    fmt::join(known, ", ")));
+            if (std::find(dynamic_plan.structures.begin(), s, *s) != s)
+                throw CLI::ValidationError(
+                    fmt::format("--dynamic-structures: '{}' given twice", *s));
+        }
+        dynamic_plan.frames = o.dynamic_frames;
+        dynamic_plan.slow_factor = o.dynamic_every_frame ? 0.0 : 10.0;
+        // Ascending and without repeats: the largest budget is the last (the per-ray cost of
+        // the chart and report is read from it).
+        std::vector<std::size_t> budgets = counts_of(o.dynamic_rays_text, "--dynamic-rays", "ray");
+        std::sort(budgets.begin(), budgets.end());
+        budgets.erase(std::unique(budgets.begin(), budgets.end()), budgets.end());
+        if (budgets.empty())
+            throw CLI::ValidationError("--dynamic-rays: give at least one ray count");
+        dynamic_plan.ray_budgets = budgets;
+        dynamic_plan.threads = plan.thread_counts.back();
+        dynamic_plan.bounces = plan.sizes.bounces;
+        dynamic_plan.seed = plan.seed;
+        dynamic_plan.configs = plan.configs;
+    }
 
     // The outputs are checked and reserved before any long work: the folder's parent must
     // exist, no output may be an input, and results.json and results.csv get their
     // temporary files now (so a folder that cannot be written is found at once).
     std::vector<fs::path> inputs = o.meshes;
+    inputs.insert(inputs.end(), o.dynamic_rigid.begin(), o.dynamic_rigid.end());
+    inputs.insert(inputs.end(), o.dynamic_deform.begin(), o.dynamic_deform.end());
     if (!o.scale_model.empty()) inputs.push_back(o.scale_model);
     inputs.push_back(o.charts_script);
     refuse_outputs_over(o.out, inputs);
@@ -366,9 +412,22 @@ void bench(CLI::App& app, Options& o)
         scenes.push_back(std::move(arena));
     }
     make_names_unique(scenes, o.meshes);
+    std::vector<sg::bench::DynamicScene> dynamic_scenes;
+    const auto add_dynamic = [&](const fs::path& m, sg::bench::Motion motion) {
+        const sg::bench::BenchScene loaded = load_scene(m, o.out);
+        dynamic_scenes.push_back(sg::bench::make_dynamic_scene(
+            loaded.name, loaded.source, loaded.mesh.view(), motion, o.dynamic_triangles));
+    };
+    for (const fs::path& m : o.dynamic_rigid) add_dynamic(m, sg::bench::Motion::rigid);
+    for (const fs::path& m : o.dynamic_deform) add_dynamic(m, sg::bench::Motion::deform);
 
-    const sg::bench::BenchResults results = sg::bench::run_bench(
-        scenes, model, plan, [](const std::string& line) { spdlog::info("{}", line); });
+    const sg::bench::BenchLog log = [](const std::string& line) { spdlog::info("{}", line); };
+    // Without a static scene (only dynamic ones) the static part is left out altogether.
+    sg::bench::BenchResults results;
+    if (!scenes.empty()) results = sg::bench::run_bench(scenes, model, plan, log);
+    std::vector<sg::bench::DynamicResult> dynamic_results;
+    for (const sg::bench::DynamicScene& d : dynamic_scenes)
+        dynamic_results.push_back(sg::bench::run_dynamic(d, dynamic_plan, log));
 
     sg::bench::RunInfo info;
     info.quick = o.quick;
@@ -378,16 +437,20 @@ void bench(CLI::App& app, Options& o)
     info.kernel_isa = std::string(sg::isa_name(sg::kernel_isa()));
     info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    sg::write_text_file(*json_output, sg::bench::results_json(results, plan, info).dump(2) + "\n");
+    sg::apps::Json document = sg::bench::results_json(results, plan, info);
+    document["dynamic"] = sg::bench::dynamic_json(dynamic_results);
+    sg::write_text_file(*json_output, document.dump(2) + "\n");
     sg::write_text_file(*csv_output, sg::bench::results_csv(results, plan));
     folder.keep();
-    std::cout << sg::bench::results_table(results, plan) << std::flush;
+    if (!scenes.empty()) std::cout << sg::bench::results_table(results, plan);
+    std::cout << sg::bench::dynamic_table(dynamic_results) << std::flush;
 
     std::vector<fs::path> written{json, csv};
     if (!o.no_charts) {
         const bool has_scale_model = !model.mesh.triangles.empty();
         for (const Chart& chart : charts)
-            if (!chart_has_data(chart, plan, has_scale_model))
+            if (!chart_has_data(chart, plan, has_scale_model, !scenes.empty(),
+                                !dynamic_results.empty()))
                 spdlog::info("no {}: it needs {}", chart.file, chart.needs);
         for (const fs::path& chart : make_charts(o, json)) written.push_back(chart);
     }
@@ -412,7 +475,10 @@ int main(int argc, char** argv)
         "(median of --trace-repeats passes) for four workloads, and correctness (brute force\n"
         "on a sample of every workload, and every ray against the first structure). Then rays\n"
         "from inside a closed sphere for each triangle test and padding (leaks per million),\n"
-        "a Split Grid parameter sweep on the first scene, and memory against scene size.",
+        "a Split Grid parameter sweep on the first scene, and memory against scene size.\n"
+        "Dynamic scenes (--dynamic-rigid, --dynamic-deform; with them MESH may be left\n"
+        "out): every frame, each structure rebuilt or refitted on the moved mesh, then one\n"
+        "frame of path rays traced per --dynamic-rays budget; time per frame against rays.",
         "Workloads: primary (one ray per pixel of a --width x --height camera framing the\n"
         "scene), path (those rays plus up to --bounces diffuse bounces each, the paper's\n"
         "Figure 3 workload), incoherent (random origins in the scene box, random directions),\n"
@@ -420,7 +486,8 @@ int main(int argc, char** argv)
         "Outputs in -o/--output: results.json (docs/BENCH.md), results.csv, and the charts\n"
         "of scripts/bench_charts.py (python3-matplotlib): figure3.png, speed_vs_accuracy.png\n"
         "(not with --watertight-rays 0), sweep_build_vs_trace.png (not with --no-sweep) and\n"
-        "memory_scaling.png (only with --scale-sizes). stdout holds the table; progress,\n"
+        "memory_scaling.png (only with --scale-sizes), dynamic.png (only with a dynamic\n"
+        "scene). stdout holds the table; progress,\n"
         "notices and the list of files written go to stderr. Timings depend on the\n"
         "machine's load: compare structures within one run.",
         embree_library());
@@ -487,6 +554,41 @@ int main(int argc, char** argv)
                                "workload and its chart).");
     sg::apps::add_count_option(app, "--sweep-rays", o.plan.sweep_rays, 1, std::uint64_t{1} << 30,
                                "Path rays traced per sweep point.");
+    app.add_option("--dynamic-rigid", o.dynamic_rigid,
+                   sg::apps::help_text("Dynamic workload: copies of this mesh (enough for "
+                                       "--dynamic-triangles) turning and circling on an arena, "
+                                       "every structure rebuilt or refitted on each frame and "
+                                       "tracing a frame of path rays (repeatable).",
+                                       {}, "none"))
+        ->type_name("MESH");
+    app.add_option("--dynamic-deform", o.dynamic_deform,
+                   sg::apps::help_text("Dynamic workload: this mesh twisting and swelling "
+                                       "(repeatable).",
+                                       {}, "none"))
+        ->type_name("MESH");
+    sg::apps::add_count_option(app, "--dynamic-frames", o.dynamic_frames, 1, 100'000,
+                               "Frames of each dynamic scene.");
+    sg::apps::add_count_option(app, "--dynamic-triangles", o.dynamic_triangles, 1,
+                               std::uint64_t{1} << 31,
+                               "Fewest triangles of a --dynamic-rigid scene.");
+    app.add_option("--dynamic-rays", o.dynamic_rays_text,
+                   sg::apps::help_text("Path rays traced per frame, comma-separated: each "
+                                       "budget is one frame of the path workload, traced "
+                                       "after the update.",
+                                       {}, o.dynamic_rays_text))
+        ->type_name("LIST");
+    app.add_option("--dynamic-structures", o.dynamic_structures_text,
+                   sg::apps::help_text("Structures of the dynamic workload, comma-separated "
+                                       "(the first is the yardstick of the slow rule; the rays "
+                                       "come from our BVH, refitted): any of --structures "
+                                       "(rebuilt each frame), bvh_refit, embree_low, "
+                                       "embree_refit.",
+                                       {},
+                                       fmt::format("{}", fmt::join(sg::bench::frame_structure_names(), ","))))
+        ->type_name("LIST");
+    app.add_flag("--dynamic-every-frame", o.dynamic_every_frame,
+                 "Run every dynamic structure on every frame (by default one whose update on "
+                 "frame 1 takes over 10x the first structure's runs on every tenth frame only)");
     app.add_flag("--no-sweep", o.no_sweep, "Skip the Split Grid parameter sweep (and its chart)");
     app.add_flag("--no-charts", o.no_charts, "Write results.json and results.csv only");
     app.add_option("--charts-script", o.charts_script,

@@ -14,4 +14,9 @@ std::unique_ptr<BenchStructure> build_embree(const MeshView&, bool, unsigned)
     throw ConfigError("this sg-bench was built without Embree (SG_WITH_EMBREE)");
 }
 
+std::unique_ptr<FrameStructure> embree_frames(const MeshView&, EmbreeFrameMode, unsigned)
+{
+    throw ConfigError("this sg-bench was built without Embree (SG_WITH_EMBREE)");
+}
+
 }  // namespace sg::bench

@@ -41,6 +41,32 @@ Camera workload_camera(const MeshView& mesh, const WorkloadSizes& sizes)
     return frame_box(bounds(mesh), static_cast<float>(sizes.width) / static_cast<float>(sizes.height));
 }
 
+std::vector<Ray> path_rays(const MeshView& mesh, const BenchStructure& reference,
+                           const PrimaryRays& camera, std::uint32_t bounces, std::uint32_t seed)
+{
+    const int width = camera.width();
+    return by_rows(camera.height(), [&](int y) {
+        std::vector<Ray> row;
+        for (int x = 0; x < width; ++x) {
+            Rng rng(seed, static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(width) +
+                              static_cast<std::uint64_t>(x));
+            Ray ray = camera.ray(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
+            for (std::uint32_t bounce = 0;; ++bounce) {
+                row.push_back(ray);
+                if (bounce == bounces) break;
+                Hit hit;
+                reference.intersect({&ray, 1}, {&hit, 1}, QueryVariant{});
+                if (!hit.is_hit()) break;
+                const SurfacePoint at = surface_point(mesh, hit);
+                const float u1 = rng.next_float();
+                const float u2 = rng.next_float();
+                ray = spawn_ray(at, cosine_hemisphere(facing_normal(at, ray.direction), u1, u2));
+            }
+        }
+        return row;
+    });
+}
+
 std::vector<Workload> make_scene_workloads(const MeshView& mesh, const BenchStructure& reference,
                                            const WorkloadSizes& sizes, std::uint32_t seed)
 {
@@ -60,26 +86,7 @@ std::vector<Workload> make_scene_workloads(const MeshView& mesh, const BenchStru
 
     out[0].rays = pixel_centre_rays(camera);
 
-    out[1].rays = by_rows(sizes.height, [&](int y) {
-        std::vector<Ray> row;
-        for (int x = 0; x < sizes.width; ++x) {
-            Rng rng(seed, static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(sizes.width) +
-                              static_cast<std::uint64_t>(x));
-            Ray ray = camera.ray(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
-            for (std::uint32_t bounce = 0;; ++bounce) {
-                row.push_back(ray);
-                if (bounce == sizes.bounces) break;
-                Hit hit;
-                reference.intersect({&ray, 1}, {&hit, 1}, QueryVariant{});
-                if (!hit.is_hit()) break;
-                const SurfacePoint at = surface_point(mesh, hit);
-                const float u1 = rng.next_float();
-                const float u2 = rng.next_float();
-                ray = spawn_ray(at, cosine_hemisphere(facing_normal(at, ray.direction), u1, u2));
-            }
-        }
-        return row;
-    });
+    out[1].rays = path_rays(mesh, reference, camera, sizes.bounces, seed);
 
     // seed + 1 in 32 bits, as this workload has always been seeded.
     out[2].rays = random_rays_in_box(box, sizes.incoherent_rays,

@@ -48,6 +48,13 @@ struct WorkloadSizes {
                                                          const WorkloadSizes& sizes,
                                                          std::uint32_t seed);
 
+/// The rays of a diffuse path tracer at one sample per pixel of `camera` (the "path"
+/// workload): each pixel's primary ray and up to `bounces` cosine-sampled bounce rays spawned
+/// from its hits, found by `reference`; pixel by pixel, rows in order.
+[[nodiscard]] std::vector<Ray> path_rays(const MeshView& mesh, const BenchStructure& reference,
+                                         const PrimaryRays& camera, std::uint32_t bounces,
+                                         std::uint32_t seed);
+
 /// A closed UV sphere with shared vertices, at least `min_triangles` triangles, for the
 /// watertightness workload.
 [[nodiscard]] Mesh closed_sphere(Vec3f centre, float radius, std::size_t min_triangles);
