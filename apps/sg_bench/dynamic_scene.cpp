@@ -52,11 +52,26 @@ void for_each_vertex(std::size_t count, const PerVertex& per_vertex)
                       });
 }
 
-std::uint32_t grid_side(std::uint32_t copies)
+// Where the rigid copies go: a square lattice of `side` x `side` slots, `spacing` apart, each
+// slot `room` wide on every side of its centre, enough for a copy (every vertex within
+// `radius` of the origin of the centred model) turning on a circle of orbit_share * radius.
+// The one layout make_dynamic_scene frames and animate moves the copies on.
+struct RigidLayout {
+    float radius = 0.0f;
+    float room = 0.0f;
+    float spacing = 0.0f;
+    std::uint32_t side = 1;
+};
+
+RigidLayout rigid_layout(const MeshView& centred_model, std::uint32_t copies)
 {
-    auto side = static_cast<std::uint32_t>(std::ceil(std::sqrt(static_cast<double>(copies))));
-    while (side * side < copies) ++side;
-    return side;
+    RigidLayout l;
+    l.radius = reach(centred_model, Vec3f{0.0f, 0.0f, 0.0f}).radius;
+    l.room = l.radius * (1.0f + orbit_share) * 1.001f;
+    l.spacing = 2.0f * l.room;
+    l.side = static_cast<std::uint32_t>(std::ceil(std::sqrt(static_cast<double>(copies))));
+    while (l.side * l.side < copies) ++l.side;
+    return l;
 }
 
 }  // namespace
@@ -77,10 +92,9 @@ DynamicScene make_dynamic_scene(const std::string& stem, const std::string& sour
     const Vec3f centre = (box.lower + box.upper) * 0.5f;
     scene.model.triangles.assign(model.triangles.begin(), model.triangles.end());
     scene.model.vertices.assign(model.vertices.begin(), model.vertices.end());
-    const Reach r = reach(model, centre);
     if (motion == Motion::deform) {
         scene.triangles = scene.model.triangles;
-        const float out = r.horizontal * static_cast<float>(1.0 + swell) * 1.001f;
+        const float out = reach(model, centre).horizontal * static_cast<float>(1.0 + swell) * 1.001f;
         scene.arena = Aabb{{centre.x - out, box.lower.y, centre.z - out},
                            {centre.x + out, box.upper.y, centre.z + out}};
         scene.source = source + ", twisted and swelling";
@@ -101,10 +115,9 @@ DynamicScene make_dynamic_scene(const std::string& stem, const std::string& sour
                 index += static_cast<std::uint32_t>(c * vertices);
             scene.triangles.push_back(shifted);
         }
-    const float room = r.radius * (1.0f + orbit_share) * 1.001f;
-    const float spacing = 2.0f * room;
-    const float far = static_cast<float>(grid_side(scene.copies) - 1) * spacing + room;
-    scene.arena = Aabb{{-room, -r.radius * 1.001f, -room}, {far, r.radius * 1.001f, far}};
+    const RigidLayout l = rigid_layout(scene.model.view(), scene.copies);
+    const float far = static_cast<float>(l.side - 1) * l.spacing + l.room;
+    scene.arena = Aabb{{-l.room, -l.radius * 1.001f, -l.room}, {far, l.radius * 1.001f, far}};
     scene.source = source + ", " + std::to_string(scene.copies) +
                    " copies turning and circling on an arena";
     return scene;
@@ -133,10 +146,7 @@ void animate(const DynamicScene& scene, std::uint32_t frame, std::uint32_t frame
         });
         return;
     }
-    const Reach r = reach(scene.model.view(), Vec3f{0.0f, 0.0f, 0.0f});
-    const float room = r.radius * (1.0f + orbit_share) * 1.001f;
-    const double spacing = 2.0 * room;
-    const std::uint32_t side = grid_side(scene.copies);
+    const RigidLayout l = rigid_layout(scene.model.view(), scene.copies);
     const std::size_t per_copy = model.size();
     for_each_vertex(out.size(), [&](std::size_t k) {
         const std::size_t c = k / per_copy;
@@ -144,8 +154,9 @@ void animate(const DynamicScene& scene, std::uint32_t frame, std::uint32_t frame
         const double speed = 1.5 * (c % 2 == 0 ? 1.0 : -1.0) * (1.0 + 0.25 * double(c % 3));
         const double angle = two_pi * (phase + speed * t);
         const double around = two_pi * (phase + t);
-        const double cx = double(c % side) * spacing + orbit_share * r.radius * std::cos(around);
-        const double cz = double(c / side) * spacing + orbit_share * r.radius * std::sin(around);
+        const double orbit = orbit_share * l.radius;
+        const double cx = double(c % l.side) * l.spacing + orbit * std::cos(around);
+        const double cz = double(c / l.side) * l.spacing + orbit * std::sin(around);
         const Vec3f v = model[k % per_copy];
         out[k] = Vec3f{static_cast<float>(cx + v.x * std::cos(angle) - v.z * std::sin(angle)), v.y,
                        static_cast<float>(cz + v.x * std::sin(angle) + v.z * std::cos(angle))};

@@ -106,6 +106,21 @@ std::vector<std::size_t> counts_of(const std::string& text, const char* flag,
     return counts;
 }
 
+/// The structures a comma-separated `text` names (all of `known` when it names none); a usage
+/// error naming `flag` for a name not in `known`.
+std::vector<std::string> structures_of(const std::string& text,
+                                       const std::vector<std::string>& known, const char* flag)
+{
+    std::vector<std::string> names = split_list(text);
+    if (names.empty()) return known;
+    for (const std::string& name : names)
+        if (std::find(known.begin(), known.end(), name) == known.end())
+            throw CLI::ValidationError(
+                fmt::format("{}: unknown structure '{}' (this build knows {})", flag, name,
+                            fmt::join(known, ", ")));
+    return names;
+}
+
 std::vector<unsigned> threads_of(const std::string& text)
 {
     std::vector<unsigned> threads;
@@ -328,14 +343,8 @@ void bench(CLI::App& app, Options& o)
     if (o.quick) apply_quick_defaults(app, o);
     BenchPlan& plan = o.plan;
     plan.sweep = !o.no_sweep;
-    const std::vector<std::string> structures = split_list(o.structures_text);
-    plan.structures = structures.empty() ? sg::bench::structure_names() : structures;
-    for (const std::string& s : plan.structures) {
-        const auto names = sg::bench::structure_names();
-        if (std::find(names.begin(), names.end(), s) == names.end())
-            throw CLI::ValidationError(fmt::format(
-                "--structures: unknown structure '{}' (this build knows {})", s, fmt::join(names, ", ")));
-    }
+    plan.structures =
+        structures_of(o.structures_text, sg::bench::structure_names(), "--structures");
     plan.thread_counts = thread_counts_of(o.threads_text);
     plan.scale_sizes = counts_of(o.scale_sizes_text, "--scale-sizes");
     const std::vector<std::size_t> arena_sizes = counts_of(o.arena_sizes_text, "--arena-sizes");
@@ -345,20 +354,15 @@ void bench(CLI::App& app, Options& o)
                                    "or a dynamic scene)");
     sg::bench::DynamicPlan dynamic_plan;
     if (dynamic) {
-        const std::vector<std::string> names = split_list(o.dynamic_structures_text);
-        dynamic_plan.structures = names.empty() ? sg::bench::frame_structure_names() : names;
-        const auto known = sg::bench::frame_structure_names();
+        dynamic_plan.structures = structures_of(
+            o.dynamic_structures_text, sg::bench::frame_structure_names(), "--dynamic-structures");
         for (auto s = dynamic_plan.structures.begin(); s != dynamic_plan.structures.end(); ++s) {
-            if (std::find(known.begin(), known.end(), *s) == known.end())
-                throw CLI::ValidationError(fmt::format(
-                    "--dynamic-structures: unknown structure '{}' (this build knows {})", *s,
-                    fmt::join(known, ", ")));
             if (std::find(dynamic_plan.structures.begin(), s, *s) != s)
                 throw CLI::ValidationError(
                     fmt::format("--dynamic-structures: '{}' given twice", *s));
         }
         dynamic_plan.frames = o.dynamic_frames;
-        dynamic_plan.slow_factor = o.dynamic_every_frame ? 0.0 : 10.0;
+        if (o.dynamic_every_frame) dynamic_plan.slow_factor = 0.0;
         // Ascending and without repeats: the largest budget is the last (the per-ray cost of
         // the chart and report is read from it).
         std::vector<std::size_t> budgets = counts_of(o.dynamic_rays_text, "--dynamic-rays", "ray");
