@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <mutex>
 #include <span>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -44,19 +46,35 @@ constexpr double bounding_node_gain = 0.25;
 // work per ray as it was (docs/BENCH.md, "Lever 4b", has the counts for 1, 2 and no limit).
 constexpr std::uint32_t kept_all_limit = 2;
 
+// The float next to a finite f towards -infinity (+infinity): std::nextafter for finite
+// input, inline. The builder rounds every clipped bound this way, and libm's nextafterf is
+// an out-of-line call each time.
+float next_down(float f) noexcept
+{
+    if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
+    const auto bits = std::bit_cast<std::uint32_t>(f);
+    return std::bit_cast<float>(f > 0.0f ? bits - 1 : bits + 1);
+}
+float next_up(float f) noexcept
+{
+    if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
+    const auto bits = std::bit_cast<std::uint32_t>(f);
+    return std::bit_cast<float>(f > 0.0f ? bits + 1 : bits - 1);
+}
+
 // Rounds a double to the nearest float that is not above (below) it, so float boxes made
-// from double clipping results still contain them.
+// from double clipping results still contain them. The conversion rounds to nearest, so a
+// float off by one step is corrected by one step; a double beyond the float range rounds
+// to an infinity on the correct side and needs no correction.
 float round_down(double x) noexcept
 {
-    float f = static_cast<float>(x);
-    if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-    return f;
+    const float f = static_cast<float>(x);
+    return static_cast<double>(f) > x ? next_down(f) : f;
 }
 float round_up(double x) noexcept
 {
-    float f = static_cast<float>(x);
-    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-    return f;
+    const float f = static_cast<float>(x);
+    return static_cast<double>(f) < x ? next_up(f) : f;
 }
 
 // Clipped extent of one triangle inside a node box, in floats rounded outward, and the
@@ -562,19 +580,34 @@ private:
         if (split.resolution < 2) return false;
         const CellMath cm(split.lo, split.hi, split.resolution);
 
-        // Cell range of each triangle: the cells whose padded slab its clipped extent touches.
-        split.first.assign(n, 1);
-        split.last.assign(n, 0);
-        run(n, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t k = begin; k < end; ++k) {
-                if (extents[k].is_empty) continue;
-                split.first[k] = cm.locate_lowest(extents[k].lower[axis] - pad_);
-                split.last[k] = cm.locate_highest(extents[k].upper[axis] + pad_);
-            }
-        });
+        // Cell range of each triangle: the cells whose padded slab its clipped extent touches
+        // (none, first > last, for an empty one). A serial node counts the cells' triangles
+        // in the same pass.
+        split.first.resize(n);
+        split.last.resize(n);
         split.counts.assign(split.resolution, 0);
-        for (std::size_t k = 0; k < n; ++k)
-            for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c) ++split.counts[c];
+        auto locate = [&](std::size_t begin, std::size_t end, auto count) {
+            for (std::size_t k = begin; k < end; ++k) {
+                if (extents[k].is_empty) {
+                    split.first[k] = 1;
+                    split.last[k] = 0;
+                    continue;
+                }
+                const std::uint32_t first = cm.locate_lowest(extents[k].lower[axis] - pad_);
+                const std::uint32_t last = cm.locate_highest(extents[k].upper[axis] + pad_);
+                split.first[k] = first;
+                split.last[k] = last;
+                if constexpr (decltype(count)::value)
+                    for (std::uint32_t c = first; c <= last; ++c) ++split.counts[c];
+            }
+        };
+        if (n < parallel_grain) {
+            locate(0, n, std::true_type{});
+        } else {
+            run(n, [&](std::size_t begin, std::size_t end) { locate(begin, end, std::false_type{}); });
+            for (std::size_t k = 0; k < n; ++k)
+                for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c) ++split.counts[c];
+        }
 
         // Progress by counts: at most one cell may keep nearly everything, and not all.
         const double heavy_limit = config_.no_progress_fraction * static_cast<double>(n);

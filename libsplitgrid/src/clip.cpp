@@ -12,25 +12,61 @@ namespace {
 constexpr int max_polygon_vertices = ClippedTriangle::max_vertices;
 using Polygon = ClippedTriangle::Polygon;
 
-// Keeps the part of `in` with sign * (p[axis] - plane) >= 0. New vertices are placed on the
+// Component `Axis` of p, chosen at compile time: the clipping loops below run per vertex
+// and per edge, and Vec3d's operator[] chooses the component by a branch each time.
+template <int Axis>
+constexpr double& at(Vec3d& p) noexcept
+{
+    if constexpr (Axis == 0) return p.x;
+    else if constexpr (Axis == 1) return p.y;
+    else return p.z;
+}
+template <int Axis>
+constexpr double at(const Vec3d& p) noexcept
+{
+    if constexpr (Axis == 0) return p.x;
+    else if constexpr (Axis == 1) return p.y;
+    else return p.z;
+}
+
+// Keeps the part of `in` with sign * (p[Axis] - plane) >= 0. New vertices are placed on the
 // plane exactly, so later clips see the coordinate the plane has, not a rounded neighbour.
-void clip_polygon(const Polygon& in, int axis, double plane, double sign, Polygon& out) noexcept
+template <int Axis>
+void clip_polygon(const Polygon& in, double plane, double sign, Polygon& out) noexcept
 {
     out.count = 0;
     for (int i = 0; i < in.count; ++i) {
         const Vec3d& p = in.v[static_cast<std::size_t>(i)];
-        const Vec3d& q = in.v[static_cast<std::size_t>((i + 1) % in.count)];
-        const double dp = sign * (p[axis] - plane);
-        const double dq = sign * (q[axis] - plane);
+        const Vec3d& q = in.v[static_cast<std::size_t>(i + 1 == in.count ? 0 : i + 1)];
+        const double dp = sign * (at<Axis>(p) - plane);
+        const double dq = sign * (at<Axis>(q) - plane);
         if (dp >= 0.0) out.v[static_cast<std::size_t>(out.count++)] = p;
         if ((dp >= 0.0) != (dq >= 0.0)) {
             const double s = dp / (dp - dq);
             Vec3d x{p.x + (q.x - p.x) * s, p.y + (q.y - p.y) * s, p.z + (q.z - p.z) * s};
-            x[axis] = plane;
+            at<Axis>(x) = plane;
             out.v[static_cast<std::size_t>(out.count++)] = x;
         }
         if (out.count > max_polygon_vertices) out.count = max_polygon_vertices;
     }
+}
+
+// Clips `current` to the box's two planes on Axis where the triangle's box `tri` crosses
+// them, swapping `current` and `next` after each clip; false once nothing is left.
+template <int Axis>
+bool clip_to_slab(const Aabbd& tri, const Aabbd& box, Polygon*& current, Polygon*& next) noexcept
+{
+    if (at<Axis>(tri.lower) < at<Axis>(box.lower)) {
+        clip_polygon<Axis>(*current, at<Axis>(box.lower), 1.0, *next);
+        std::swap(current, next);
+        if (current->count == 0) return false;
+    }
+    if (at<Axis>(tri.upper) > at<Axis>(box.upper)) {
+        clip_polygon<Axis>(*current, at<Axis>(box.upper), -1.0, *next);
+        std::swap(current, next);
+        if (current->count == 0) return false;
+    }
+    return true;
 }
 
 }  // namespace
@@ -49,18 +85,8 @@ bool ClippedTriangle::clip(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box) noexcept
     current->v[1] = b;
     current->v[2] = c;
     current->count = 3;
-    for (int k = 0; k < 3; ++k) {
-        if (tri.lower[k] < box.lower[k]) {
-            clip_polygon(*current, k, box.lower[k], 1.0, *next);
-            std::swap(current, next);
-            if (current->count == 0) break;
-        }
-        if (tri.upper[k] > box.upper[k]) {
-            clip_polygon(*current, k, box.upper[k], -1.0, *next);
-            std::swap(current, next);
-            if (current->count == 0) break;
-        }
-    }
+    (void)(clip_to_slab<0>(tri, box, current, next) && clip_to_slab<1>(tri, box, current, next) &&
+           clip_to_slab<2>(tri, box, current, next));
     if (current != &polygon_) polygon_ = *current;
     return polygon_.count > 0;
 }
@@ -96,29 +122,33 @@ Aabbd ClippedTriangle::bounds(const Aabbd& box) const noexcept
     return clamped(out, box);
 }
 
-bool ClippedTriangle::slab_bounds(int axis, const Aabbd& box, Aabbd& out) const noexcept
+namespace {
+
+// ClippedTriangle::slab_bounds for a split axis known at compile time.
+template <int Axis>
+bool slab_bounds_on(const Polygon& polygon, const Aabbd& box, Aabbd& out) noexcept
 {
-    const double lower = box.lower[axis];
-    const double upper = box.upper[axis];
+    const double lower = at<Axis>(box.lower);
+    const double upper = at<Axis>(box.upper);
     out = {{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}};
     bool any = false;
-    // The point of edge pq on the plane p[axis] = plane, where its ends lie on different
+    // The point of edge pq on the plane p[Axis] = plane, where its ends lie on different
     // sides (the formula of clip_polygon). A vertex on the plane is in the slab and taken
     // above; an edge that ends on the plane adds that vertex again at most.
     auto cross = [&](const Vec3d& p, const Vec3d& q, double plane) {
-        const double dp = p[axis] - plane;
-        const double dq = q[axis] - plane;
+        const double dp = at<Axis>(p) - plane;
+        const double dq = at<Axis>(q) - plane;
         if ((dp >= 0.0) == (dq >= 0.0)) return;
         const double s = dp / (dp - dq);
         Vec3d x{p.x + (q.x - p.x) * s, p.y + (q.y - p.y) * s, p.z + (q.z - p.z) * s};
-        x[axis] = plane;
+        at<Axis>(x) = plane;
         extend(out, x);
         any = true;
     };
-    for (int i = 0; i < polygon_.count; ++i) {
-        const Vec3d& p = polygon_.v[static_cast<std::size_t>(i)];
-        const Vec3d& q = polygon_.v[static_cast<std::size_t>(i + 1 == polygon_.count ? 0 : i + 1)];
-        if (p[axis] >= lower && p[axis] <= upper) {
+    for (int i = 0; i < polygon.count; ++i) {
+        const Vec3d& p = polygon.v[static_cast<std::size_t>(i)];
+        const Vec3d& q = polygon.v[static_cast<std::size_t>(i + 1 == polygon.count ? 0 : i + 1)];
+        if (at<Axis>(p) >= lower && at<Axis>(p) <= upper) {
             extend(out, p);
             any = true;
         }
@@ -128,6 +158,17 @@ bool ClippedTriangle::slab_bounds(int axis, const Aabbd& box, Aabbd& out) const 
     if (!any) return false;
     out = clamped(out, box);
     return true;
+}
+
+}  // namespace
+
+bool ClippedTriangle::slab_bounds(int axis, const Aabbd& box, Aabbd& out) const noexcept
+{
+    switch (axis) {
+    case 0: return slab_bounds_on<0>(polygon_, box, out);
+    case 1: return slab_bounds_on<1>(polygon_, box, out);
+    default: return slab_bounds_on<2>(polygon_, box, out);
+    }
 }
 
 bool clip_triangle_bounds(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box, Aabbd& out) noexcept
