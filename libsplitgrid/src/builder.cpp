@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -19,6 +18,7 @@
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/clip.hpp"
 #include "splitgrid/error.hpp"
+#include "splitgrid/float_step.hpp"
 #include "splitgrid/resolution.hpp"
 #include "splitgrid/stats.hpp"
 
@@ -45,37 +45,6 @@ constexpr double bounding_node_gain = 0.25;
 // into the cell around its centre, where many rays pass; 2 ends the chains and leaves the
 // work per ray as it was (docs/BENCH.md, "Lever 4b", has the counts for 1, 2 and no limit).
 constexpr std::uint32_t kept_all_limit = 2;
-
-// The float next to a finite f towards -infinity (+infinity): std::nextafter for finite
-// input, inline. The builder rounds every clipped bound this way, and libm's nextafterf is
-// an out-of-line call each time.
-float next_down(float f) noexcept
-{
-    if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
-    const auto bits = std::bit_cast<std::uint32_t>(f);
-    return std::bit_cast<float>(f > 0.0f ? bits - 1 : bits + 1);
-}
-float next_up(float f) noexcept
-{
-    if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
-    const auto bits = std::bit_cast<std::uint32_t>(f);
-    return std::bit_cast<float>(f > 0.0f ? bits + 1 : bits - 1);
-}
-
-// Rounds a double to the nearest float that is not above (below) it, so float boxes made
-// from double clipping results still contain them. The conversion rounds to nearest, so a
-// float off by one step is corrected by one step; a double beyond the float range rounds
-// to an infinity on the correct side and needs no correction.
-float round_down(double x) noexcept
-{
-    const float f = static_cast<float>(x);
-    return static_cast<double>(f) > x ? next_down(f) : f;
-}
-float round_up(double x) noexcept
-{
-    const float f = static_cast<float>(x);
-    return static_cast<double>(f) < x ? next_up(f) : f;
-}
 
 // Clipped extent of one triangle inside a node box, in floats rounded outward, and the
 // size of the whole (unclipped) triangle. `known` is false for an extent not computed yet.
@@ -684,8 +653,8 @@ private:
         TriExtent e;
         e.known = true;
         for (int k = 0; k < 3; ++k) {
-            e.lower[k] = round_down(clipped.lower[k]);
-            e.upper[k] = round_up(clipped.upper[k]);
+            e.lower[k] = float_not_above(clipped.lower[k]);
+            e.upper[k] = float_not_below(clipped.upper[k]);
         }
         e.size = size;
         return e;

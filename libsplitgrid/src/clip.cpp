@@ -12,23 +12,6 @@ namespace {
 constexpr int max_polygon_vertices = ClippedTriangle::max_vertices;
 using Polygon = ClippedTriangle::Polygon;
 
-// Component `Axis` of p, chosen at compile time: the clipping loops below run per vertex
-// and per edge, and Vec3d's operator[] chooses the component by a branch each time.
-template <int Axis>
-constexpr double& at(Vec3d& p) noexcept
-{
-    if constexpr (Axis == 0) return p.x;
-    else if constexpr (Axis == 1) return p.y;
-    else return p.z;
-}
-template <int Axis>
-constexpr double at(const Vec3d& p) noexcept
-{
-    if constexpr (Axis == 0) return p.x;
-    else if constexpr (Axis == 1) return p.y;
-    else return p.z;
-}
-
 // Keeps the part of `in` with sign * (p[Axis] - plane) >= 0. New vertices are placed on the
 // plane exactly, so later clips see the coordinate the plane has, not a rounded neighbour.
 template <int Axis>
@@ -38,13 +21,13 @@ void clip_polygon(const Polygon& in, double plane, double sign, Polygon& out) no
     for (int i = 0; i < in.count; ++i) {
         const Vec3d& p = in.v[static_cast<std::size_t>(i)];
         const Vec3d& q = in.v[static_cast<std::size_t>(i + 1 == in.count ? 0 : i + 1)];
-        const double dp = sign * (at<Axis>(p) - plane);
-        const double dq = sign * (at<Axis>(q) - plane);
+        const double dp = sign * (component<Axis>(p) - plane);
+        const double dq = sign * (component<Axis>(q) - plane);
         if (dp >= 0.0) out.v[static_cast<std::size_t>(out.count++)] = p;
         if ((dp >= 0.0) != (dq >= 0.0)) {
             const double s = dp / (dp - dq);
             Vec3d x{p.x + (q.x - p.x) * s, p.y + (q.y - p.y) * s, p.z + (q.z - p.z) * s};
-            at<Axis>(x) = plane;
+            component<Axis>(x) = plane;
             out.v[static_cast<std::size_t>(out.count++)] = x;
         }
         if (out.count > max_polygon_vertices) out.count = max_polygon_vertices;
@@ -56,13 +39,13 @@ void clip_polygon(const Polygon& in, double plane, double sign, Polygon& out) no
 template <int Axis>
 bool clip_to_slab(const Aabbd& tri, const Aabbd& box, Polygon*& current, Polygon*& next) noexcept
 {
-    if (at<Axis>(tri.lower) < at<Axis>(box.lower)) {
-        clip_polygon<Axis>(*current, at<Axis>(box.lower), 1.0, *next);
+    if (component<Axis>(tri.lower) < component<Axis>(box.lower)) {
+        clip_polygon<Axis>(*current, component<Axis>(box.lower), 1.0, *next);
         std::swap(current, next);
         if (current->count == 0) return false;
     }
-    if (at<Axis>(tri.upper) > at<Axis>(box.upper)) {
-        clip_polygon<Axis>(*current, at<Axis>(box.upper), -1.0, *next);
+    if (component<Axis>(tri.upper) > component<Axis>(box.upper)) {
+        clip_polygon<Axis>(*current, component<Axis>(box.upper), -1.0, *next);
         std::swap(current, next);
         if (current->count == 0) return false;
     }
@@ -75,20 +58,20 @@ bool ClippedTriangle::clip(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box) noexcept
 {
     Aabbd tri{{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})},
               {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})}};
-    polygon_.count = 0;
+    result_ = 0;
+    buffers_[0].count = 0;
     for (int k = 0; k < 3; ++k)
         if (tri.upper[k] < box.lower[k] || tri.lower[k] > box.upper[k]) return false;
-    Polygon spare;
-    Polygon* current = &polygon_;
-    Polygon* next = &spare;
+    Polygon* current = &buffers_[0];
+    Polygon* next = &buffers_[1];
     current->v[0] = a;
     current->v[1] = b;
     current->v[2] = c;
     current->count = 3;
     (void)(clip_to_slab<0>(tri, box, current, next) && clip_to_slab<1>(tri, box, current, next) &&
            clip_to_slab<2>(tri, box, current, next));
-    if (current != &polygon_) polygon_ = *current;
-    return polygon_.count > 0;
+    result_ = current == &buffers_[0] ? 0 : 1;
+    return current->count > 0;
 }
 
 namespace {
@@ -118,7 +101,8 @@ inline Aabbd clamped(const Aabbd& b, const Aabbd& box) noexcept
 Aabbd ClippedTriangle::bounds(const Aabbd& box) const noexcept
 {
     Aabbd out{{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}};
-    for (int i = 0; i < polygon_.count; ++i) extend(out, polygon_.v[static_cast<std::size_t>(i)]);
+    const Polygon& polygon = buffers_[result_];
+    for (int i = 0; i < polygon.count; ++i) extend(out, polygon.v[static_cast<std::size_t>(i)]);
     return clamped(out, box);
 }
 
@@ -128,27 +112,27 @@ namespace {
 template <int Axis>
 bool slab_bounds_on(const Polygon& polygon, const Aabbd& box, Aabbd& out) noexcept
 {
-    const double lower = at<Axis>(box.lower);
-    const double upper = at<Axis>(box.upper);
+    const double lower = component<Axis>(box.lower);
+    const double upper = component<Axis>(box.upper);
     out = {{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}};
     bool any = false;
     // The point of edge pq on the plane p[Axis] = plane, where its ends lie on different
     // sides (the formula of clip_polygon). A vertex on the plane is in the slab and taken
     // above; an edge that ends on the plane adds that vertex again at most.
     auto cross = [&](const Vec3d& p, const Vec3d& q, double plane) {
-        const double dp = at<Axis>(p) - plane;
-        const double dq = at<Axis>(q) - plane;
+        const double dp = component<Axis>(p) - plane;
+        const double dq = component<Axis>(q) - plane;
         if ((dp >= 0.0) == (dq >= 0.0)) return;
         const double s = dp / (dp - dq);
         Vec3d x{p.x + (q.x - p.x) * s, p.y + (q.y - p.y) * s, p.z + (q.z - p.z) * s};
-        at<Axis>(x) = plane;
+        component<Axis>(x) = plane;
         extend(out, x);
         any = true;
     };
     for (int i = 0; i < polygon.count; ++i) {
         const Vec3d& p = polygon.v[static_cast<std::size_t>(i)];
         const Vec3d& q = polygon.v[static_cast<std::size_t>(i + 1 == polygon.count ? 0 : i + 1)];
-        if (at<Axis>(p) >= lower && at<Axis>(p) <= upper) {
+        if (component<Axis>(p) >= lower && component<Axis>(p) <= upper) {
             extend(out, p);
             any = true;
         }
@@ -165,9 +149,9 @@ bool slab_bounds_on(const Polygon& polygon, const Aabbd& box, Aabbd& out) noexce
 bool ClippedTriangle::slab_bounds(int axis, const Aabbd& box, Aabbd& out) const noexcept
 {
     switch (axis) {
-    case 0: return slab_bounds_on<0>(polygon_, box, out);
-    case 1: return slab_bounds_on<1>(polygon_, box, out);
-    default: return slab_bounds_on<2>(polygon_, box, out);
+    case 0: return slab_bounds_on<0>(buffers_[result_], box, out);
+    case 1: return slab_bounds_on<1>(buffers_[result_], box, out);
+    default: return slab_bounds_on<2>(buffers_[result_], box, out);
     }
 }
 

@@ -1,15 +1,20 @@
 // Small pieces checked against independent arithmetic: the resolution formula, the cell
-// mapping, clipping against the separating-axis test, the watertight triangle test.
+// mapping, the float steps, clipping against the separating-axis test, the watertight triangle test.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <random>
 #include <utility>
+#include <vector>
 
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/clip.hpp"
+#include "splitgrid/float_step.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/ray_triangle.hpp"
 #include "splitgrid/resolution.hpp"
@@ -60,6 +65,48 @@ TEST(CellMath, BoundariesAreMonotoneAndLocateAgreesWithLinearSearch)
             EXPECT_EQ(cm.locate_highest(x), highest);
         }
     }
+}
+
+// The float steps the builders round with, against libm's nextafter on a spread of bit
+// patterns of every kind (zeros, denormals, normals, infinities, NaN) and the bound that
+// rounding to the nearest float not above (below) a double must meet.
+TEST(FloatStep, StepsAsNextafterAndRoundsOutward)
+{
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    auto same = [](float a, float b) {
+        return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b) ||
+               (std::isnan(a) && std::isnan(b));
+    };
+    std::vector<std::uint32_t> patterns{0x00000000u, 0x80000000u, 0x00000001u, 0x80000001u,
+                                        0x007FFFFFu, 0x807FFFFFu, 0x00800000u, 0x80800000u,
+                                        0x7F7FFFFFu, 0xFF7FFFFFu, 0x7F800000u, 0xFF800000u,
+                                        0x7FC00000u, 0xFFC00000u, 0x3F800000u, 0xBF800000u};
+    for (std::uint64_t bits = 0; bits <= 0xFFFFFFFFu; bits += 65521)
+        patterns.push_back(static_cast<std::uint32_t>(bits));
+    for (const std::uint32_t bits : patterns) {
+        const float f = std::bit_cast<float>(bits);
+        EXPECT_TRUE(same(next_float_down(f), std::nextafter(f, -inf))) << std::hex << bits;
+        EXPECT_TRUE(same(next_float_up(f), std::nextafter(f, inf))) << std::hex << bits;
+    }
+
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> mantissa(-1.0, 1.0);
+    std::uniform_int_distribution<int> exponent(-160, 140);
+    for (int trial = 0; trial < 200000; ++trial) {
+        const double x = std::ldexp(mantissa(rng), exponent(rng));
+        const float below = float_not_above(x);
+        const float above = float_not_below(x);
+        // Not beyond x, and the next float is: the nearest float on each side.
+        ASSERT_LE(static_cast<double>(below), x) << x;
+        ASSERT_GT(static_cast<double>(std::nextafter(below, inf)), x) << x;
+        ASSERT_GE(static_cast<double>(above), x) << x;
+        ASSERT_LT(static_cast<double>(std::nextafter(above, -inf)), x) << x;
+    }
+    // Beyond the float range: the largest float on the near side, an infinity on the far one.
+    EXPECT_EQ(float_not_above(1e39), std::numeric_limits<float>::max());
+    EXPECT_EQ(float_not_below(1e39), inf);
+    EXPECT_EQ(float_not_below(-1e39), -std::numeric_limits<float>::max());
+    EXPECT_EQ(float_not_above(-1e39), -inf);
 }
 
 TEST(Clip, AgreesWithTheSeparatingAxisTest)

@@ -55,7 +55,11 @@ public:
     };
 
 private:
-    Polygon polygon_;
+    // The polygon is clipped from one buffer into the other, plane by plane; buffers_[result_]
+    // holds the result. Both live as long as the object, so an object reused for many
+    // triangles sets up no polygon per clip.
+    std::array<Polygon, 2> buffers_;
+    int result_ = 0;
 };
 
 /// Bounding box of (triangle abc) intersected with `box`, computed by clipping the triangle

@@ -80,4 +80,15 @@ struct Vec3d {
     }
 };
 
+/// Component Axis of v (a Vec3f or Vec3d, const or not), chosen at compile time: operator[]
+/// chooses by a branch, which loops over many points pay for at each access.
+template <int Axis, class V>
+[[nodiscard]] constexpr auto& component(V& v) noexcept
+{
+    static_assert(Axis >= 0 && Axis < 3);
+    if constexpr (Axis == 0) return v.x;
+    else if constexpr (Axis == 1) return v.y;
+    else return v.z;
+}
+
 }  // namespace sg

@@ -14,6 +14,7 @@
 #include "splitgrid/aabb.hpp"
 #include "splitgrid/builder.hpp"
 #include "splitgrid/error.hpp"
+#include "splitgrid/float_step.hpp"
 #include "splitgrid/mesh.hpp"
 
 namespace sg::detail {
@@ -22,11 +23,11 @@ namespace sg::detail {
 /// and cheaper than checking the rounding direction.
 [[nodiscard]] inline float float_below(double x) noexcept
 {
-    return std::nextafter(static_cast<float>(x), -std::numeric_limits<float>::infinity());
+    return next_float_down(static_cast<float>(x));
 }
 [[nodiscard]] inline float float_above(double x) noexcept
 {
-    return std::nextafter(static_cast<float>(x), std::numeric_limits<float>::infinity());
+    return next_float_up(static_cast<float>(x));
 }
 
 /// The box every structure is built in: the scene's bounding box widened by `pad` on each
