@@ -80,7 +80,8 @@ TEST(FloatStep, StepsAsNextafterAndRoundsOutward)
     std::vector<std::uint32_t> patterns{0x00000000u, 0x80000000u, 0x00000001u, 0x80000001u,
                                         0x007FFFFFu, 0x807FFFFFu, 0x00800000u, 0x80800000u,
                                         0x7F7FFFFFu, 0xFF7FFFFFu, 0x7F800000u, 0xFF800000u,
-                                        0x7FC00000u, 0xFFC00000u, 0x3F800000u, 0xBF800000u};
+                                        0x7FC00000u, 0xFFC00000u, 0x7F800001u, 0xFF800001u,
+                                        0x7FFFFFFFu, 0xFFFFFFFFu, 0x3F800000u, 0xBF800000u};
     for (std::uint64_t bits = 0; bits <= 0xFFFFFFFFu; bits += 65521)
         patterns.push_back(static_cast<std::uint32_t>(bits));
     for (const std::uint32_t bits : patterns) {
@@ -101,6 +102,13 @@ TEST(FloatStep, StepsAsNextafterAndRoundsOutward)
         ASSERT_GT(static_cast<double>(std::nextafter(below, inf)), x) << x;
         ASSERT_GE(static_cast<double>(above), x) << x;
         ASSERT_LT(static_cast<double>(std::nextafter(above, -inf)), x) << x;
+    }
+    // A double that is a float is its own rounding, on both sides.
+    for (const float f : {0.0f, -0.0f, 1.0f, -1.0f, std::numeric_limits<float>::denorm_min(),
+                          -std::numeric_limits<float>::denorm_min(),
+                          std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()}) {
+        EXPECT_TRUE(same(float_not_above(static_cast<double>(f)), f)) << f;
+        EXPECT_TRUE(same(float_not_below(static_cast<double>(f)), f)) << f;
     }
     // Beyond the float range: the largest float on the near side, an infinity on the far one.
     EXPECT_EQ(float_not_above(1e39), std::numeric_limits<float>::max());
