@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 
 #include "splitgrid/aabb.hpp"
 #include "splitgrid/vec3.hpp"
@@ -59,7 +60,7 @@ private:
     // holds the result. Both live as long as the object, so an object reused for many
     // triangles sets up no polygon per clip.
     std::array<Polygon, 2> buffers_;
-    int result_ = 0;
+    std::size_t result_ = 0;
 };
 
 /// Bounding box of (triangle abc) intersected with `box`, computed by clipping the triangle
