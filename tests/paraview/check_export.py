@@ -4,7 +4,7 @@ arrays and ranges it sees agree with what sg-stats says about the same .sg file;
 coloured by triangle_count, renders to a non-trivial image.
 
 Run by ctest (label `paraview`) as
-    xvfb-run -a pvbatch check_export.py SG_BUILD SG_STATS SG_EXPORT MODEL WORK_DIR VIEW_SCRIPT_DIR
+    sh with_xvfb.sh pvbatch check_export.py SG_BUILD SG_STATS SG_EXPORT MODEL WORK_DIR VIEW_SCRIPT_DIR
 Any failed check raises, and pvbatch then exits with status 1.
 """
 

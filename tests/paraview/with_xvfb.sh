@@ -1,0 +1,30 @@
+#!/bin/sh
+# Runs a command under a private Xvfb server (ParaView's pvbatch renders only through X).
+# Xvfb picks a free display number itself and writes it to a pipe once it accepts
+# connections (-displayfd), so there is no window in which another server can take the
+# number or the command can start before its server is ready. xvfb-run -a chooses the number
+# by looking at lock files and, when that display turns out to be taken, can start its
+# command on the next one before that server is ready ("bad X server connection").
+set -eu
+dir="$(mktemp -d)"
+pid=""
+clean_up() {
+    if [ -n "${pid}" ]; then
+        kill "${pid}" 2>/dev/null || true
+        wait "${pid}" 2>/dev/null || true
+    fi
+    rm -rf "${dir}"
+}
+trap clean_up EXIT
+mkfifo "${dir}/display"
+Xvfb -displayfd 3 -nolisten tcp -screen 0 1280x1024x24 3>"${dir}/display" 2>"${dir}/xvfb.log" &
+pid=$!
+number=""
+read -r number <"${dir}/display" || true
+if [ -z "${number}" ]; then
+    echo "with_xvfb.sh: Xvfb did not start: $(tail -n 3 "${dir}/xvfb.log")" >&2
+    exit 1
+fi
+status=0
+DISPLAY=":${number}" "$@" || status=$?
+exit "${status}"
