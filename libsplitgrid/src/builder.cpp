@@ -555,6 +555,9 @@ private:
         split.first.resize(n);
         split.last.resize(n);
         split.counts.assign(split.resolution, 0);
+        auto add_to_counts = [&](std::uint32_t first, std::uint32_t last) {
+            for (std::uint32_t c = first; c <= last; ++c) ++split.counts[c];
+        };
         auto locate = [&](std::size_t begin, std::size_t end, auto count) {
             for (std::size_t k = begin; k < end; ++k) {
                 if (extents[k].is_empty) {
@@ -566,16 +569,15 @@ private:
                 const std::uint32_t last = cm.locate_highest(extents[k].upper[axis] + pad_);
                 split.first[k] = first;
                 split.last[k] = last;
-                if constexpr (decltype(count)::value)
-                    for (std::uint32_t c = first; c <= last; ++c) ++split.counts[c];
+                if constexpr (decltype(count)::value) add_to_counts(first, last);
             }
         };
         if (n < parallel_grain) {
             locate(0, n, std::true_type{});
         } else {
+            // Located in parallel, counted after: the counts are shared.
             run(n, [&](std::size_t begin, std::size_t end) { locate(begin, end, std::false_type{}); });
-            for (std::size_t k = 0; k < n; ++k)
-                for (std::uint32_t c = split.first[k]; c <= split.last[k]; ++c) ++split.counts[c];
+            for (std::size_t k = 0; k < n; ++k) add_to_counts(split.first[k], split.last[k]);
         }
 
         // Progress by counts: at most one cell may keep nearly everything, and not all.
