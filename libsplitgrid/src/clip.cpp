@@ -12,8 +12,20 @@ namespace {
 constexpr int max_polygon_vertices = ClippedTriangle::max_vertices;
 using Polygon = ClippedTriangle::Polygon;
 
-// Keeps the part of `in` with sign * (p[Axis] - plane) >= 0. New vertices are placed on the
-// plane exactly, so later clips see the coordinate the plane has, not a rounded neighbour.
+// The point of edge pq on the plane p[Axis] = plane, from the signed distances dp and dq of
+// its ends (on different sides), placed on the plane exactly so that later clips see the
+// coordinate the plane has, not a rounded neighbour. Negating both distances gives the same
+// point, bit for bit.
+template <int Axis>
+Vec3d edge_point(const Vec3d& p, const Vec3d& q, double dp, double dq, double plane) noexcept
+{
+    const double s = dp / (dp - dq);
+    Vec3d x{p.x + (q.x - p.x) * s, p.y + (q.y - p.y) * s, p.z + (q.z - p.z) * s};
+    component<Axis>(x) = plane;
+    return x;
+}
+
+// Keeps the part of `in` with sign * (p[Axis] - plane) >= 0.
 template <int Axis>
 void clip_polygon(const Polygon& in, double plane, double sign, Polygon& out) noexcept
 {
@@ -24,12 +36,8 @@ void clip_polygon(const Polygon& in, double plane, double sign, Polygon& out) no
         const double dp = sign * (component<Axis>(p) - plane);
         const double dq = sign * (component<Axis>(q) - plane);
         if (dp >= 0.0) out.v[static_cast<std::size_t>(out.count++)] = p;
-        if ((dp >= 0.0) != (dq >= 0.0)) {
-            const double s = dp / (dp - dq);
-            Vec3d x{p.x + (q.x - p.x) * s, p.y + (q.y - p.y) * s, p.z + (q.z - p.z) * s};
-            component<Axis>(x) = plane;
-            out.v[static_cast<std::size_t>(out.count++)] = x;
-        }
+        if ((dp >= 0.0) != (dq >= 0.0))
+            out.v[static_cast<std::size_t>(out.count++)] = edge_point<Axis>(p, q, dp, dq, plane);
         if (out.count > max_polygon_vertices) out.count = max_polygon_vertices;
     }
 }
@@ -116,17 +124,14 @@ bool slab_bounds_on(const Polygon& polygon, const Aabbd& box, Aabbd& out) noexce
     const double upper = component<Axis>(box.upper);
     out = {{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}};
     bool any = false;
-    // The point of edge pq on the plane p[Axis] = plane, where its ends lie on different
-    // sides (the formula of clip_polygon). A vertex on the plane is in the slab and taken
-    // above; an edge that ends on the plane adds that vertex again at most.
+    // The point of edge pq on the plane, where its ends lie on different sides (the point
+    // clip_polygon would make). A vertex on the plane is in the slab and taken below; an edge
+    // that ends on the plane adds that vertex again at most.
     auto cross = [&](const Vec3d& p, const Vec3d& q, double plane) {
         const double dp = component<Axis>(p) - plane;
         const double dq = component<Axis>(q) - plane;
         if ((dp >= 0.0) == (dq >= 0.0)) return;
-        const double s = dp / (dp - dq);
-        Vec3d x{p.x + (q.x - p.x) * s, p.y + (q.y - p.y) * s, p.z + (q.z - p.z) * s};
-        component<Axis>(x) = plane;
-        extend(out, x);
+        extend(out, edge_point<Axis>(p, q, dp, dq, plane));
         any = true;
     };
     for (int i = 0; i < polygon.count; ++i) {

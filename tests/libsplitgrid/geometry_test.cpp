@@ -151,9 +151,11 @@ TEST(Clip, PiecesInSlabsAgreeWithClippingToTheSlabsBox)
     // degenerate into segments and points.
     const Aabbd box{{-1, -1, -1}, {1, 1, 1}};
     int pieces = 0, empty = 0, touching = 0;
+    // One object for every triangle, as the builder uses it: nothing of a clip may leak into
+    // the next one.
+    ClippedTriangle polygon;
     auto check = [&](const Vec3d& a, const Vec3d& b, const Vec3d& c, int axis, double lo,
                      double hi, int trial) {
-        ClippedTriangle polygon;
         Aabbd whole;
         ASSERT_EQ(polygon.clip(a, b, c, box), clip_triangle_bounds(a, b, c, box, whole))
             << "trial " << trial;

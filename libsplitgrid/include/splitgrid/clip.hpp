@@ -48,10 +48,12 @@ public:
     /// cut the polygon would give a clamped box, not the clipped one).
     bool slab_bounds(int axis, const Aabbd& box, Aabbd& out) const noexcept;
 
-    /// Room for a triangle clipped by six planes: 3 + 6 vertices, and one spare.
+    /// A triangle clipped by six planes has at most 3 + 6 vertices. Rounding can make a
+    /// polygon slightly non-convex and a clip then add more; the count is capped at this
+    /// after each edge, and the two spare places take the at most two points one edge adds.
     static constexpr int max_vertices = 9;
     struct Polygon {
-        std::array<Vec3d, max_vertices + 1> v;
+        std::array<Vec3d, max_vertices + 2> v;
         int count = 0;
     };
 

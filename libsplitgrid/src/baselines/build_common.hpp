@@ -3,7 +3,6 @@
 // Build-time helpers shared by the three comparison structures.
 
 #include <algorithm>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -19,8 +18,10 @@
 
 namespace sg::detail {
 
-/// A float at or below (above) x: one ulp outward after rounding, which is always enough
-/// and cheaper than checking the rounding direction.
+/// A float at or below (above) x: one float outward from the nearest, which is always enough.
+/// At most one float wider than float_not_above (below), which the Split Grid's builder uses;
+/// the comparison structures keep this step, so their boxes stay those measured in
+/// docs/RESULTS.md.
 [[nodiscard]] inline float float_below(double x) noexcept
 {
     return next_float_down(static_cast<float>(x));
