@@ -16,8 +16,14 @@ clean_up() {
     rm -rf "${dir}"
 }
 trap clean_up EXIT
+# An interrupted run (Ctrl-C, ctest's timeout) ends through the EXIT trap too: sh runs that
+# trap on `exit`, not when a signal kills it.
+trap 'exit 129' HUP
+trap 'exit 130' INT
+trap 'exit 143' TERM
 mkfifo "${dir}/display"
-Xvfb -displayfd 3 -nolisten tcp -screen 0 1280x1024x24 3>"${dir}/display" 2>"${dir}/xvfb.log" &
+# SG_XVFB: the server CMake found (tests/CMakeLists.txt); Xvfb on the PATH otherwise.
+"${SG_XVFB:-Xvfb}" -displayfd 3 -nolisten tcp -screen 0 1280x1024x24 3>"${dir}/display" 2>"${dir}/xvfb.log" &
 pid=$!
 number=""
 read -r number <"${dir}/display" || true
