@@ -621,14 +621,13 @@ private:
                           [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
     }
 
-    // The triangle's bounding box intersected with `clip_box` (BuildConfig::clip_triangles
-    // off); false when they do not touch.
-    static bool clip_triangle_box(const Vec3d& a, const Vec3d& b, const Vec3d& c,
-                                  const Aabbd& clip_box, Aabbd& out) noexcept
+    // A triangle's bounding box `whole` intersected with `clip_box`
+    // (BuildConfig::clip_triangles off); false when they do not touch.
+    static bool clip_triangle_box(const Aabbd& whole, const Aabbd& clip_box, Aabbd& out) noexcept
     {
         for (int k = 0; k < 3; ++k) {
-            out.lower[k] = std::max(std::min({a[k], b[k], c[k]}), clip_box.lower[k]);
-            out.upper[k] = std::min(std::max({a[k], b[k], c[k]}), clip_box.upper[k]);
+            out.lower[k] = std::max(whole.lower[k], clip_box.lower[k]);
+            out.upper[k] = std::min(whole.upper[k], clip_box.upper[k]);
             if (out.lower[k] > out.upper[k]) return false;
         }
         return true;
@@ -639,13 +638,13 @@ private:
         const Vec3d a(mesh_.vertex(tri, 0));
         const Vec3d b(mesh_.vertex(tri, 1));
         const Vec3d c(mesh_.vertex(tri, 2));
+        const Aabbd whole = triangle_box(a, b, c);
         Aabbd clipped;
         if (config_.clip_triangles ? !clip_triangle_bounds(a, b, c, clip_box, clipped)
-                                   : !clip_triangle_box(a, b, c, clip_box, clipped))
+                                   : !clip_triangle_box(whole, clip_box, clipped))
             return empty_extent();
         Vec3f size;
-        for (int k = 0; k < 3; ++k)
-            size[k] = static_cast<float>(std::max({a[k], b[k], c[k]}) - std::min({a[k], b[k], c[k]}));
+        for (int k = 0; k < 3; ++k) size[k] = static_cast<float>(whole.upper[k] - whole.lower[k]);
         return rounded_extent(clipped, size);
     }
 

@@ -64,8 +64,7 @@ bool clip_to_slab(const Aabbd& tri, const Aabbd& box, Polygon*& current, Polygon
 
 bool ClippedTriangle::clip(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box) noexcept
 {
-    Aabbd tri{{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})},
-              {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})}};
+    const Aabbd tri = triangle_box(a, b, c);
     result_ = 0;
     buffers_[0].count = 0;
     for (int k = 0; k < 3; ++k)
@@ -164,8 +163,7 @@ bool clip_triangle_bounds(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box, Aabbd& ou
 {
     // A triangle inside the box is its own piece: no polygon is set up (most calls of the
     // grid and kd-tree builders).
-    const Aabbd tri{{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})},
-                    {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})}};
+    const Aabbd tri = triangle_box(a, b, c);
     bool inside = true;
     for (int k = 0; k < 3; ++k) {
         if (tri.upper[k] < box.lower[k] || tri.lower[k] > box.upper[k]) return false;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 
@@ -23,6 +24,13 @@ struct Aabbd {
                 {upper.x + pad, upper.y + pad, upper.z + pad}};
     }
 };
+
+/// Bounding box of triangle abc.
+[[nodiscard]] inline Aabbd triangle_box(const Vec3d& a, const Vec3d& b, const Vec3d& c) noexcept
+{
+    return {{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})},
+            {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})}};
+}
 
 /// A triangle clipped to a box (Sutherland-Hodgman, double precision; points on a plane count
 /// as inside), kept as its polygon so that the bounds of its parts in several slabs can be

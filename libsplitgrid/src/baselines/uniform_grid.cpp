@@ -41,8 +41,7 @@ public:
         const Vec3d a(mesh_.vertex(tri, 0));
         const Vec3d b(mesh_.vertex(tri, 1));
         const Vec3d c(mesh_.vertex(tri, 2));
-        const Aabbd whole{{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})},
-                          {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})}};
+        const Aabbd whole = triangle_box(a, b, c);
         std::uint32_t x0, x1;
         cell_range(0, whole, x0, x1);
         for (std::uint32_t x = x0; x <= x1; ++x) {
