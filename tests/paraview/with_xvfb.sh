@@ -16,8 +16,8 @@ clean_up() {
     rm -rf "${dir}"
 }
 trap clean_up EXIT
-# An interrupted run (Ctrl-C, ctest's timeout) ends through the EXIT trap too: sh runs that
-# trap on `exit`, not when a signal kills it.
+# A run stopped by HUP, INT (Ctrl-C) or TERM ends through the EXIT trap too: sh runs that
+# trap on `exit`, not when a signal kills it. A KILL (ctest's timeout) leaves the folder.
 trap 'exit 129' HUP
 trap 'exit 130' INT
 trap 'exit 143' TERM
