@@ -23,7 +23,10 @@ trap 'exit 130' INT
 trap 'exit 143' TERM
 mkfifo "${dir}/display"
 # SG_XVFB: the server CMake found (tests/CMakeLists.txt); Xvfb on the PATH otherwise.
-"${SG_XVFB:-Xvfb}" -displayfd 3 -nolisten tcp -screen 0 1280x1024x24 3>"${dir}/display" 2>"${dir}/xvfb.log" &
+# -noreset keeps one server state for the whole run: by default the server resets whenever
+# its last client disconnects, which would fall between any two connections pvbatch makes.
+"${SG_XVFB:-Xvfb}" -displayfd 3 -nolisten tcp -noreset -screen 0 1280x1024x24 \
+    3>"${dir}/display" 2>"${dir}/xvfb.log" &
 pid=$!
 number=""
 read -r number <"${dir}/display" || true
@@ -33,4 +36,11 @@ if [ -z "${number}" ]; then
 fi
 status=0
 DISPLAY=":${number}" "$@" || status=$?
+if [ "${status}" -ne 0 ]; then
+    # What a failed run needs to be told apart from a server that went away.
+    state="exited"
+    kill -0 "${pid}" 2>/dev/null && state="still running"
+    echo "with_xvfb.sh: the command failed (status ${status}) on display :${number};" \
+        "Xvfb (pid ${pid}) ${state}; its log: $(tail -n 5 "${dir}/xvfb.log" | tr '\n' ' ')" >&2
+fi
 exit "${status}"
