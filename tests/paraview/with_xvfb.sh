@@ -23,8 +23,9 @@ trap 'exit 130' INT
 trap 'exit 143' TERM
 mkfifo "${dir}/display"
 # SG_XVFB: the server CMake found (tests/CMakeLists.txt); Xvfb on the PATH otherwise.
-# -noreset keeps one server state for the whole run: by default the server resets whenever
-# its last client disconnects, which would fall between any two connections pvbatch makes.
+# -noreset keeps one server state for the whole run (by default the server resets whenever
+# its last client disconnects), a precaution: no reset was shown to cause the rare "bad X server
+# connection" failures of this test.
 "${SG_XVFB:-Xvfb}" -displayfd 3 -nolisten tcp -noreset -screen 0 1280x1024x24 \
     3>"${dir}/display" 2>"${dir}/xvfb.log" &
 pid=$!
@@ -39,7 +40,7 @@ DISPLAY=":${number}" "$@" || status=$?
 if [ "${status}" -ne 0 ]; then
     # What a failed run needs to be told apart from a server that went away.
     state="exited"
-    kill -0 "${pid}" 2>/dev/null && state="still running"
+    kill -0 "${pid}" 2>/dev/null && state="still answers kill -0"
     echo "with_xvfb.sh: the command failed (status ${status}) on display :${number};" \
         "Xvfb (pid ${pid}) ${state}; its log: $(tail -n 5 "${dir}/xvfb.log" | tr '\n' ' ')" >&2
 fi

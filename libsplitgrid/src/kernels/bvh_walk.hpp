@@ -12,7 +12,8 @@ namespace sg::kernels::SG_KERNEL_ISA {
 /// axis's allowance (KernelRay::pad), or +infinity if the ray misses it. A parallel axis
 /// (inv = 0, pad = infinity) constrains nothing: the box is then visited whether or not the
 /// origin lies in its slab, which is conservative. Always inlined: GCC made it a call, twice
-/// per inner node, and inline it traces 5% faster (docs/BENCH.md, "Calls inside the walks").
+/// per inner node, and inline the BVH traces 3-5% faster (docs/BENCH.md, "Calls inside the
+/// walks").
 [[nodiscard, gnu::always_inline]] inline float box_entry(const KernelRay& ray, const Aabb& box,
                                                          float t0, float t1) noexcept
 {
