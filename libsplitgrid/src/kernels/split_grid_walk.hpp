@@ -21,9 +21,10 @@ namespace sg::kernels::SG_KERNEL_ISA {
     return n < table.size() ? table[n] : 1.0f / static_cast<float>(n);
 }
 
-/// A node whose cells are being walked (kept on the stack while a child is visited). The
-/// ray parameter of the node's k-th cell boundary is t_lo + k * dt (dt < 0 for a ray going
-/// down the axis); cells are visited from `cell` in steps of `step` until `end`.
+/// A node whose cells are being walked (the walked one in registers, its ancestors with cells
+/// left on the stack while a child is visited). The ray parameter of the node's k-th cell
+/// boundary is t_lo + k * dt (dt < 0 for a ray going down the axis); cells are visited from
+/// `cell` in steps of `step` until `end`.
 struct GridCursor {
     float t_lo;
     float dt;
@@ -37,16 +38,17 @@ struct GridCursor {
 };
 
 /// Max stack depth: one cursor per ancestor of the deepest node (check_invariants bounds
-/// the depth by max_supported_depth).
+/// the depth by max_supported_depth); only ancestors with cells left are kept.
 inline constexpr std::size_t grid_stack_size = max_supported_depth + 1;
 
 /// Walks the Split Grid front to back for `ray`, testing leaves with `test` and keeping the
 /// result in `search`. Per node entry: one slab clip (two crossings) and the entry cell from
-/// one division, no correction loop, about 75 instructions; per cell: one crossing (a
+/// one multiply by 1 / dt (a division that depends on the node's record only, so it runs
+/// beside the clip instead of after it), no correction loop; per cell: one crossing (a
 /// multiply and an add) and two compares. Per random ray on the 871k-triangle dragon
-/// (`kernel-cost`, AVX2): 4,462 instructions, 25.5 mispredicted branches, 52 L1 misses, of
-/// which the cell walk 1,649 / 16.2 / 10.6, node entries 1,521 / 6.1 / 12.8 and the batched
-/// triangle tests 681 / 1.7 / 24.5 (docs/BENCH.md). A class rather than lambdas: GCC
+/// (`kernel-cost`, AVX2): 2,877 instructions, 22.5 mispredicted branches, 24.5 L1 misses, of
+/// which the walk (node entries and cells) 1,945 / 19.2 / 12.9 and the batched triangle tests
+/// 204 / 1.3 / 6.8 (docs/BENCH.md). A class rather than lambdas: GCC
 /// compiles lambdas without the instruction set of the target region they are written in.
 template <TriangleTest test, class Search>
 class SplitGridWalk {
@@ -66,13 +68,22 @@ public:
             (void)test_leaf_cell(grid_.root);
             return;
         }
-        if (enter_node(grid_.root.child(), t0, t1)) return;
-        while (sp_ > 0) {
-            GridCursor& c = stack_[sp_ - 1];
+        // The cursor of the node being walked lives in registers; the stack keeps only the
+        // ancestors that still have cells left. (Walked in place on the stack, every cell step
+        // stored its cursor and loaded it back, a store-to-load round trip on the chain from
+        // one cell's index to the next cell's load.)
+        const CellRef* const cells = grid_.cells.data();
+        GridCursor c;
+        Entry entry = enter_node(grid_.root.child(), t0, t1, c);
+        for (;;) {
+            if (entry == Entry::done) return;
             // Cells are in ray order: once one starts past the closest hit so far (or past the
             // node), so do all after it.
-            if (c.cell == c.end || c.enter > std::min(c.t1, search_.best_t())) {
-                --sp_;
+            if (entry == Entry::none || c.cell == c.end ||
+                c.enter > std::min(c.t1, search_.best_t())) {
+                if (sp_ == 0) return;
+                c = stack_[--sp_];
+                entry = Entry::cursor;
                 continue;
             }
             const std::int32_t exit_boundary = c.step > 0 ? c.cell + 1 : c.cell;
@@ -83,7 +94,7 @@ public:
             const float c1 = std::min(c.t1, t_exit + c.pad);
             // The plane this cell is left through is the plane the next one is entered through.
             c.enter = std::max(c.enter, t_exit - c.pad);
-            const CellRef cell = grid_.cells[c.first_cell + static_cast<std::uint32_t>(c.cell)];
+            const CellRef cell = cells[c.first_cell + static_cast<std::uint32_t>(c.cell)];
             c.cell += c.step;
             search_.count_cell();
             if (cell.is_empty() || c0 > c1) continue;
@@ -91,11 +102,22 @@ public:
                 if (test_leaf_cell(cell) && search_.done()) return;
                 continue;
             }
-            if (enter_node(cell.child(), c0, c1)) return;
+            // Descend. This node is kept for later only if it has cells left; a full stack
+            // (ruled out by check_invariants, which bounds the depth) ends the walk rather
+            // than overflow.
+            if (c.cell != c.end) {
+                SG_ASSERT(sp_ < grid_stack_size);
+                if (sp_ >= grid_stack_size) return;
+                stack_[sp_++] = c;
+            }
+            entry = enter_node(cell.child(), c0, c1, c);
         }
     }
 
 private:
+    /// What a node entry leaves: nothing to walk, a cursor to walk, or a finished any-hit query.
+    enum class Entry { none, cursor, done };
+
     bool test_leaf_cell(CellRef cell) noexcept
     {
         const TriangleRef* refs = grid_.triangle_refs.data();
@@ -103,36 +125,38 @@ private:
                                       refs + grid_.triangle_refs.size());
     }
 
-    // Clips [n0, n1] to the node's slab and pushes a cursor at the first cell the ray may be
-    // in. A one-cell node (a bounding node on one axis) pushes nothing: its cell is entered at
-    // once over the clipped interval, and a chain of them is one loop. A full stack (ruled out
-    // by check_invariants) drops the node rather than overflow. True when an any-hit query is
-    // done.
-    bool enter_node(std::uint32_t index, float n0, float n1) noexcept
+    // Clips [n0, n1] to the node's slab and sets `c` to a cursor at the first cell the ray may
+    // be in. A one-cell node (a bounding node on one axis) makes no cursor: its cell is
+    // entered at once over the clipped interval, and a chain of them is one loop. Always
+    // inlined, so that `c` stays in registers.
+    [[gnu::always_inline]] Entry enter_node(std::uint32_t index, float n0, float n1,
+                                            GridCursor& c) noexcept
     {
         for (;;) {
             search_.count_node();
             const GridNode node = grid_.nodes[index];
             const std::uint32_t n = node.resolution();
-            if (n != 1 || ray_.extreme) return push_cursor(node, n0, n1);
+            if (n != 1 || ray_.extreme) return make_cursor(node, n0, n1, c);
             const int axis = node.axis();
             if (ray_.parallel[axis]) {
                 const float o = ray_.origin[axis];
-                if (!(o >= node.lo && o <= node.hi)) return false;
+                if (!(o >= node.lo && o <= node.hi)) return Entry::none;
             } else if (float t_lo; !clip_to_slab(node, axis, n0, n1, t_lo)) {
-                return false;
+                return Entry::none;
             }
             const CellRef cell = grid_.cells[node.first_cell()];
             search_.count_cell();
-            if (cell.is_leaf()) return test_leaf_cell(cell) && search_.done();
-            if (!cell.is_inner()) return false;
+            if (cell.is_leaf())
+                return test_leaf_cell(cell) && search_.done() ? Entry::done : Entry::none;
+            if (!cell.is_inner()) return Entry::none;
             index = cell.child();
         }
     }
 
     // Clips [n0, n1] to the node's slab widened by the axis's crossing allowance; false when
     // nothing is left. `t_lo` is the crossing of the lower plane.
-    bool clip_to_slab(const GridNode& node, int axis, float& n0, float& n1, float& t_lo) const noexcept
+    [[gnu::always_inline]] bool clip_to_slab(const GridNode& node, int axis, float& n0,
+                                             float& n1, float& t_lo) const noexcept
     {
         const float pad = ray_.pad[axis];
         t_lo = ray_.crossing(axis, node.lo);
@@ -142,24 +166,24 @@ private:
         return n0 <= n1;
     }
 
-    bool push_cursor(const GridNode& node, float n0, float n1) noexcept
+    [[gnu::always_inline]] Entry make_cursor(const GridNode& node, float n0, float n1,
+                                             GridCursor& c) noexcept
     {
         const int axis = node.axis();
         const std::uint32_t n = node.resolution();
-        SG_ASSERT(sp_ < grid_stack_size);
-        if (sp_ >= grid_stack_size) return false;
         if (ray_.parallel[axis]) {
             // Parallel to the axis: the ray stays in the cell of its origin (the lowest one if
             // the origin lies on a boundary: triangles there are referenced by both cells).
             const float o = ray_.origin[axis];
-            if (!(o >= node.lo && o <= node.hi)) return false;
-            const auto cell = static_cast<std::int32_t>(CellMath(node.lo, node.hi, n).locate_lowest(o));
-            stack_[sp_++] = GridCursor{std::numeric_limits<float>::infinity(), 0.0f, n0, n1, 0.0f,
-                                       cell, cell + 1, 1, node.first_cell()};
-            return false;
+            if (!(o >= node.lo && o <= node.hi)) return Entry::none;
+            const auto cell =
+                static_cast<std::int32_t>(CellMath(node.lo, node.hi, n).locate_lowest(o));
+            c = GridCursor{std::numeric_limits<float>::infinity(), 0.0f, n0, n1, 0.0f,
+                           cell, cell + 1, 1, node.first_cell()};
+            return Entry::cursor;
         }
         float t_lo;
-        if (!clip_to_slab(node, axis, n0, n1, t_lo)) return false;
+        if (!clip_to_slab(node, axis, n0, n1, t_lo)) return Entry::none;
         const float pad = ray_.pad[axis];
         // Walk direction without a branch (its sign is the ray's, unpredictable per node):
         // up the axis from cell 0 to n - 1, or down from n - 1 to 0.
@@ -172,22 +196,25 @@ private:
             // A NaN t_lo makes every extrapolated crossing NaN, which the walk's std::min and
             // std::max drop (they keep their first operand), so no cell interval shrinks.
             const std::int32_t first = up ? 0 : static_cast<std::int32_t>(n) - 1;
-            stack_[sp_++] = GridCursor{std::numeric_limits<float>::quiet_NaN(), 0.0f, n0, n1, pad,
-                                       first, end, step, node.first_cell()};
-            return false;
+            c = GridCursor{std::numeric_limits<float>::quiet_NaN(), 0.0f, n0, n1, pad,
+                           first, end, step, node.first_cell()};
+            return Entry::cursor;
         }
         const float dt = (node.hi - node.lo) * reciprocal_resolution(n) * ray_.inv[axis];
         // The first cell in ray order whose widened interval may reach n0: position of the
         // parameter n0 - pad in cell units, rounded down (it is a lower bound going up the
         // axis and, dt being negative, an upper bound going down). A flat node (dt = 0) gives
         // +-infinity, clamped to its first cell in ray order, or NaN, taken as that cell too.
-        // (std::max(0, x) is 0 for NaN, a min/max instruction rather than a branch.)
+        // (std::max(0, x) is 0 for NaN, a min/max instruction rather than a branch.) 1 / dt
+        // and the product round twice where a division rounds once; the allowance covers both
+        // (docs/SPLIT_GRID.md), and 1 / dt is a normal float for every ray that is not extreme.
         const float last = static_cast<float>(n - 1);
-        float x = (n0 - pad - t_lo) / dt;
+        const float cells_per_t = 1.0f / dt;
+        float x = (n0 - pad - t_lo) * cells_per_t;
         if (x != x) x = up ? 0.0f : last;
         const auto cell = static_cast<std::int32_t>(std::min(last, std::max(0.0f, x)));
-        stack_[sp_++] = GridCursor{t_lo, dt, n0, n1, pad, cell, end, step, node.first_cell()};
-        return false;
+        c = GridCursor{t_lo, dt, n0, n1, pad, cell, end, step, node.first_cell()};
+        return Entry::cursor;
     }
 
     const SplitGrid& grid_;
