@@ -211,7 +211,9 @@ TEST(Termination, WorkPerRayStaysWithinTheBoundOnOrdinaryAndDeepestGrids)
 TEST(Termination, RaysThroughTheDeepestAcceptedChainReachItsLeaf)
 {
     // 65 nested nodes of one cell each (depths 0 to 64), alternating axes, and a triangle
-    // across the box in the leaf under the deepest: exactly the traversal stack's size.
+    // across the box in the leaf under the deepest: the deepest grid check_invariants
+    // accepts. (The walk keeps no cursor for a one-cell node: this tests depth, not the
+    // stack.)
     SplitGrid g;
     g.root_box = Aabb{{0, 0, 0}, {1, 1, 1}};
     g.triangle_count = 1;

@@ -48,8 +48,8 @@ inline constexpr std::size_t grid_stack_size = max_supported_depth + 1;
 /// multiply and an add) and two compares. Per random ray on the 871k-triangle dragon
 /// (`kernel-cost`, AVX2): 2,877 instructions, 22.5 mispredicted branches, 24.5 L1 misses, of
 /// which the walk (node entries and cells) 1,945 / 19.2 / 12.9 and the batched triangle tests
-/// 204 / 1.3 / 6.8 (docs/BENCH.md). A class rather than lambdas: GCC
-/// compiles lambdas without the instruction set of the target region they are written in.
+/// 204 / 1.3 / 6.8 (docs/BENCH.md). A class rather than lambdas: GCC compiles lambdas without
+/// the instruction set of the target region they are written in.
 template <TriangleTest test, class Search>
 class SplitGridWalk {
 public:
@@ -73,7 +73,7 @@ public:
         // stored its cursor and loaded it back, a store-to-load round trip on the chain from
         // one cell's index to the next cell's load.)
         const CellRef* const cells = grid_.cells.data();
-        GridCursor c;
+        GridCursor c{};
         Entry entry = enter_node(grid_.root.child(), t0, t1, c);
         for (;;) {
             if (entry == Entry::done) return;
@@ -203,15 +203,15 @@ private:
         const float dt = (node.hi - node.lo) * reciprocal_resolution(n) * ray_.inv[axis];
         // The first cell in ray order whose widened interval may reach n0: position of the
         // parameter n0 - pad in cell units, rounded down (it is a lower bound going up the
-        // axis and, dt being negative, an upper bound going down). A flat node (dt = 0) gives
-        // +-infinity, clamped to its first cell in ray order, or NaN, taken as that cell too.
-        // (std::max(0, x) is 0 for NaN, a min/max instruction rather than a branch.) 1 / dt
-        // and the product round twice where a division rounds once; the allowance covers both
-        // (docs/SPLIT_GRID.md), and 1 / dt is a normal float for every ray that is not extreme.
+        // axis and, dt being negative, an upper bound going down). 1 / dt and the product
+        // round twice where a division rounds once; the allowance covers both
+        // (docs/SPLIT_GRID.md). Where x is not finite (a flat node, dt = 0, or cells so thin
+        // in t that 1 / dt overflows) the walk starts at the node's first cell in ray order,
+        // which can only add cells. (std::max(0, x) is a min/max instruction, not a branch.)
         const float last = static_cast<float>(n - 1);
         const float cells_per_t = 1.0f / dt;
         float x = (n0 - pad - t_lo) * cells_per_t;
-        if (x != x) x = up ? 0.0f : last;
+        if (!(std::abs(x) <= std::numeric_limits<float>::max())) x = up ? 0.0f : last;
         const auto cell = static_cast<std::int32_t>(std::min(last, std::max(0.0f, x)));
         c = GridCursor{t_lo, dt, n0, n1, pad, cell, end, step, node.first_cell()};
         return Entry::cursor;
