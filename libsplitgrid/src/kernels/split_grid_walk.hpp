@@ -45,11 +45,12 @@ inline constexpr std::size_t grid_stack_size = max_supported_depth + 1;
 /// result in `search`. Per node entry: one slab clip (two crossings) and the entry cell from
 /// one multiply by 1 / dt (a division that depends on the node's record only, so it runs
 /// beside the clip instead of after it), no correction loop; per cell: one crossing (a
-/// multiply and an add) and two compares. Per random ray on the 871k-triangle dragon
-/// (`kernel-cost`, AVX2): 2,877 instructions, 22.5 mispredicted branches, 24.5 L1 misses, of
-/// which the walk (node entries and cells) 1,945 / 19.2 / 12.9 and the batched triangle tests
-/// 204 / 1.3 / 6.8 (docs/BENCH.md). A class rather than lambdas: GCC compiles lambdas without
-/// the instruction set of the target region they are written in.
+/// multiply and an add) and two compares; per non-empty cell, a prefetch of what the node's
+/// next cell leads to. Per random ray on the 871k-triangle dragon (`kernel-cost`, AVX2): 2,910
+/// instructions, 22.8 mispredicted branches, 24.4 L1 misses, of which the walk (node entries
+/// and cells) 1,983 / 19.6 / 12.9 and the batched triangle tests 201 / 1.4 / 6.8
+/// (docs/BENCH.md). A class rather than lambdas: GCC compiles lambdas without the instruction
+/// set of the target region they are written in.
 template <TriangleTest test, class Search>
 class SplitGridWalk {
 public:
@@ -98,6 +99,8 @@ public:
             c.cell += c.step;
             search_.count_cell();
             if (cell.is_empty() || c0 > c1) continue;
+            if (c.cell != c.end)
+                prefetch_target(cells[c.first_cell + static_cast<std::uint32_t>(c.cell)]);
             if (cell.is_leaf()) {
                 if (test_leaf_cell(cell) && search_.done()) return;
                 continue;
@@ -117,6 +120,21 @@ public:
 private:
     /// What a node entry leaves: nothing to walk, a cursor to walk, or a finished any-hit query.
     enum class Entry { none, cursor, done };
+
+    // Asks the cache for what the node's next cell leads to (its child's record, or its
+    // leaf's first references) while this cell's leaf or subtree is visited: the walk comes
+    // back to that cell only afterwards, if the ray gets that far (an empty cell asks for the
+    // first reference). The addresses are computed as integers, since the index of one kind
+    // may lie past the end of the other's array. GCC compiles the choice as a branch on the
+    // kind; a mask instead traced 1% slower (docs/BENCH.md).
+    [[gnu::always_inline]] void prefetch_target(CellRef next) const noexcept
+    {
+        const std::uintptr_t node = reinterpret_cast<std::uintptr_t>(grid_.nodes.data()) +
+                                    std::uintptr_t{next.child()} * sizeof(GridNode);
+        const std::uintptr_t refs = reinterpret_cast<std::uintptr_t>(grid_.triangle_refs.data()) +
+                                    std::uintptr_t{next.first_ref()} * sizeof(TriangleRef);
+        __builtin_prefetch(reinterpret_cast<const void*>(next.is_inner() ? node : refs));
+    }
 
     bool test_leaf_cell(CellRef cell) noexcept
     {
