@@ -67,6 +67,52 @@ TEST(CellMath, BoundariesAreMonotoneAndLocateAgreesWithLinearSearch)
     }
 }
 
+// locate_cells, which finds four coordinates' cells at once, against a linear search over the
+// boundaries: coordinates on boundaries, between them, one float step off them and outside
+// [lo, hi], flat nodes (width 0) and counts that are not a multiple of four.
+TEST(CellMath, LocateCellsAgreesWithLinearSearch)
+{
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-1000.0f, 1000.0f);
+    for (int trial = 0; trial < 300; ++trial) {
+        float lo = u(rng), hi = u(rng);
+        if (lo > hi) std::swap(lo, hi);
+        if (trial % 25 == 0) hi = lo;  // flat
+        const std::uint32_t n = 1 + static_cast<std::uint32_t>(trial % 70);
+        const CellMath cm(lo, hi, n);
+        std::vector<float> xs;
+        for (std::uint32_t i = 0; i <= n; ++i) {
+            const float b = cm.boundary(i);
+            xs.insert(xs.end(), {b, std::nextafter(b, -INFINITY), std::nextafter(b, INFINITY)});
+        }
+        for (int q = 0; q < 40; ++q) xs.push_back(lo + (hi - lo) * (static_cast<float>(q) / 39.0f));
+        xs.insert(xs.end(), {lo - 1.0f, hi + 1.0f, -1e30f, 1e30f});
+        std::shuffle(xs.begin(), xs.end(), rng);
+        xs.resize(xs.size() - static_cast<std::size_t>(trial % 4));
+        std::vector<float> ys(xs.rbegin(), xs.rend());
+        std::vector<std::uint32_t> first(xs.size()), last(xs.size());
+        locate_cells(cm, xs.data(), ys.data(), xs.size(), first.data(), last.data());
+        // The cells locate_lowest and locate_highest are defined to give, by linear search:
+        // the first cell whose upper boundary is not below x (the last cell if none is), and
+        // the last cell whose lower boundary is not above x (the first if none is). Inside
+        // [lo, hi] these are the lowest and highest cells whose closed interval holds x.
+        auto search = [&](float x, bool lowest) {
+            if (lowest) {
+                for (std::uint32_t i = 0; i + 1 < n; ++i)
+                    if (x <= cm.boundary(i + 1)) return i;
+                return n - 1;
+            }
+            for (std::uint32_t i = n - 1; i > 0; --i)
+                if (x >= cm.boundary(i)) return i;
+            return 0u;
+        };
+        for (std::size_t k = 0; k < xs.size(); ++k) {
+            ASSERT_EQ(first[k], search(xs[k], true)) << "x " << xs[k] << ", n " << n;
+            ASSERT_EQ(last[k], search(ys[k], false)) << "x " << ys[k] << ", n " << n;
+        }
+    }
+}
+
 // The float steps the builders round with, against libm's nextafter on a spread of bit
 // patterns of every kind (zeros, denormals, normals, infinities, NaN) and the bound that
 // rounding to the nearest float not above (below) a double must meet.
