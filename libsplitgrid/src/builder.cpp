@@ -124,6 +124,10 @@ public:
             float pad)
         : mesh_(mesh), config_(config), progress_(progress), pad_(pad)
     {
+        // A cell holds each triangle at most once: no node has more than the mesh's.
+        small_resolution_count_ = std::min(small_resolutions_.size(), mesh.triangle_count() + 1);
+        for (std::size_t n = 0; n < small_resolution_count_; ++n)
+            small_resolutions_[n] = node_resolution(config_, n);
     }
 
     // Builds the cell covering `box` for the triangles `tris` (all known to touch the padded
@@ -448,9 +452,12 @@ private:
     bool find_split(const Aabb& box, const Aabb& tight, std::span<const TriExtent> extents,
                     Split& split) const
     {
+        // Insertion sort, stable like std::stable_sort, which allocates a buffer on every call
+        // (once per node).
         std::array<int, 3> axes{0, 1, 2};
-        std::stable_sort(axes.begin(), axes.end(),
-                         [&](int a, int b) { return tight.extent(a) > tight.extent(b); });
+        for (std::size_t i = 1; i < axes.size(); ++i)
+            for (std::size_t j = i; j > 0 && tight.extent(axes[j]) > tight.extent(axes[j - 1]); --j)
+                std::swap(axes[j], axes[j - 1]);
         for (int axis : axes) {
             if (!(tight.extent(axis) > 0.0f)) break;
             if (try_split(box, tight, axis, extents, split)) return true;
@@ -530,7 +537,8 @@ private:
             split.lo = box.lower[axis];
             split.hi = box.upper[axis];
         }
-        split.resolution = node_resolution(config_, n);
+        split.resolution = n < small_resolution_count_ ? small_resolutions_[n]
+                                                       : node_resolution(config_, n);
         if (config_.min_cell_width > 0.0) {
             // The whole triangles' extent, not the clipped one: clipped pieces shrink with the
             // cells, and a cap on them would let every level slice finer than the last.
@@ -721,6 +729,10 @@ private:
     const BuildConfig& config_;
     const BuildProgress& progress_;
     const float pad_;
+    // node_resolution of the serial subtrees' nodes, which it would otherwise compute (with
+    // an exp) once per node and axis tried.
+    std::array<std::uint32_t, parallel_grain> small_resolutions_{};
+    std::size_t small_resolution_count_ = 0;
     std::mutex progress_mutex_;
     double done_ = 0.0;
     double last_reported_ = 0.0;
