@@ -562,9 +562,14 @@ private:
         // in the same pass.
         split.first.resize(n);
         split.last.resize(n);
-        split.counts.assign(split.resolution, 0);
+        // The counts are summed from differences (+1 at a triangle's first cell, -1 past its
+        // last: an empty extent's cancel), two adds per triangle without a loop over its
+        // cells, whose length the branch predictor cannot know. Unsigned arithmetic wraps,
+        // and every prefix sum is a count.
+        split.counts.assign(split.resolution + 1, 0);
         auto add_to_counts = [&](std::uint32_t first, std::uint32_t last) {
-            for (std::uint32_t c = first; c <= last; ++c) ++split.counts[c];
+            ++split.counts[first];
+            --split.counts[last + 1];
         };
         // The coordinates are gathered in blocks, so that locate_cells finds four triangles'
         // cells at once (docs/BENCH.md, "Locating four triangles at once"). An empty extent's
@@ -585,9 +590,9 @@ private:
                     if (extents[k].is_empty) {
                         split.first[k] = 1;
                         split.last[k] = 0;
-                    } else if constexpr (decltype(count)::value) {
-                        add_to_counts(split.first[k], split.last[k]);
                     }
+                    if constexpr (decltype(count)::value)
+                        add_to_counts(split.first[k], split.last[k]);
                 }
             }
         };
@@ -598,6 +603,8 @@ private:
             run(n, [&](std::size_t begin, std::size_t end) { locate(begin, end, std::false_type{}); });
             for (std::size_t k = 0; k < n; ++k) add_to_counts(split.first[k], split.last[k]);
         }
+        for (std::uint32_t c = 1; c < split.resolution; ++c) split.counts[c] += split.counts[c - 1];
+        split.counts.pop_back();
 
         // Progress by counts: at most one cell may keep nearly everything, and not all.
         const double heavy_limit = config_.no_progress_fraction * static_cast<double>(n);
