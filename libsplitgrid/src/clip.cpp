@@ -32,7 +32,7 @@ void clip_polygon(const Polygon& in, double plane, double sign, Polygon& out) no
     out.count = 0;
     for (int i = 0; i < in.count; ++i) {
         const Vec3d& p = in.v[static_cast<std::size_t>(i)];
-        const Vec3d& q = in.v[static_cast<std::size_t>(i + 1 == in.count ? 0 : i + 1)];
+        const Vec3d& q = in.v[static_cast<std::size_t>(i + 1)];
         const double dp = sign * (component<Axis>(p) - plane);
         const double dq = sign * (component<Axis>(q) - plane);
         if (dp >= 0.0) out.v[static_cast<std::size_t>(out.count++)] = p;
@@ -40,6 +40,7 @@ void clip_polygon(const Polygon& in, double plane, double sign, Polygon& out) no
             out.v[static_cast<std::size_t>(out.count++)] = edge_point<Axis>(p, q, dp, dq, plane);
         if (out.count > max_polygon_vertices) out.count = max_polygon_vertices;
     }
+    out.v[static_cast<std::size_t>(out.count)] = out.v[0];
 }
 
 // Clips `current` to the box's two planes on Axis where the triangle's box `tri` crosses
@@ -74,6 +75,7 @@ bool ClippedTriangle::clip(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box) noexcept
     current->v[0] = a;
     current->v[1] = b;
     current->v[2] = c;
+    current->v[3] = a;
     current->count = 3;
     (void)(clip_to_slab<0>(tri, box, current, next) && clip_to_slab<1>(tri, box, current, next) &&
            clip_to_slab<2>(tri, box, current, next));
@@ -135,7 +137,7 @@ bool slab_bounds_on(const Polygon& polygon, const Aabbd& box, Aabbd& out) noexce
     };
     for (int i = 0; i < polygon.count; ++i) {
         const Vec3d& p = polygon.v[static_cast<std::size_t>(i)];
-        const Vec3d& q = polygon.v[static_cast<std::size_t>(i + 1 == polygon.count ? 0 : i + 1)];
+        const Vec3d& q = polygon.v[static_cast<std::size_t>(i + 1)];
         if (component<Axis>(p) >= lower && component<Axis>(p) <= upper) {
             extend(out, p);
             any = true;

@@ -59,6 +59,8 @@ public:
     /// A triangle clipped by six planes has at most 3 + 6 vertices. Rounding can make a
     /// polygon slightly non-convex and a clip then add more; the count is capped at this
     /// after each edge, and the two spare places take the at most two points one edge adds.
+    /// Past the last vertex a copy of the first closes the polygon, so that the edge loops
+    /// read each edge's end without a wrap-around test.
     static constexpr int max_vertices = 9;
     struct Polygon {
         std::array<Vec3d, max_vertices + 2> v;
