@@ -125,8 +125,8 @@ public:
         : mesh_(mesh), config_(config), progress_(progress), pad_(pad)
     {
         // A cell holds each triangle at most once: no node has more than the mesh's.
-        small_resolution_count_ = std::min(small_resolutions_.size(), mesh.triangle_count() + 1);
-        for (std::size_t n = 0; n < small_resolution_count_; ++n)
+        small_resolutions_.resize(std::min(parallel_grain, mesh.triangle_count() + 1));
+        for (std::size_t n = 0; n < small_resolutions_.size(); ++n)
             small_resolutions_[n] = node_resolution(config_, n);
     }
 
@@ -537,8 +537,8 @@ private:
             split.lo = box.lower[axis];
             split.hi = box.upper[axis];
         }
-        split.resolution = n < small_resolution_count_ ? small_resolutions_[n]
-                                                       : node_resolution(config_, n);
+        split.resolution = n < small_resolutions_.size() ? small_resolutions_[n]
+                                                         : node_resolution(config_, n);
         if (config_.min_cell_width > 0.0) {
             // The whole triangles' extent, not the clipped one: clipped pieces shrink with the
             // cells, and a cap on them would let every level slice finer than the last.
@@ -738,8 +738,7 @@ private:
     const float pad_;
     // node_resolution of the serial subtrees' nodes, which it would otherwise compute (with
     // an exp) once per node and axis tried.
-    std::array<std::uint32_t, parallel_grain> small_resolutions_{};
-    std::size_t small_resolution_count_ = 0;
+    std::vector<std::uint32_t> small_resolutions_;
     std::mutex progress_mutex_;
     double done_ = 0.0;
     double last_reported_ = 0.0;
