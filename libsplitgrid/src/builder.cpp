@@ -94,6 +94,14 @@ struct BuiltNode {
     std::vector<BuiltCell> cells;
 };
 
+// What planning a node needs from its triangles' extents, gathered in one pass over them: the
+// tight box of the clipped pieces and, per axis, the mean size of the whole triangles whose
+// pieces are not empty (BuildConfig::min_cell_width; zero where there are none).
+struct ExtentSummary {
+    Aabb tight;
+    std::array<double, 3> mean_size{};
+};
+
 // One-cell nodes around a cell (see Builder::choose_bounds): at most one per axis.
 struct Bound {
     int axis = 0;
@@ -215,13 +223,12 @@ private:
         if (ends_as_plain_leaf(n, depth)) return plan;
         clip_unknown(box, tris, extents, n);
         const std::span<const TriExtent> clipped(extents, n);
-        // Tight box of the clipped triangles (min/max are exact, so any reduction order
-        // gives the same box).
-        const Aabb tight = reduce_box(clipped);
+        const ExtentSummary summary = summarize(clipped);
+        const Aabb& tight = summary.tight;
         if (tight.is_empty()) return plan;
         plan.bounded = box;
         if (n <= config_.leaf_size || kept_all >= kept_all_limit ||
-            !find_split(box, tight, clipped, split)) {
+            !find_split(box, summary, clipped, split)) {
             plan.bounds = choose_bounds(plan.bounded, tight, -1, depth);
             return plan;
         }
@@ -449,9 +456,10 @@ private:
 
     // The split of the first axis, by decreasing extent of the clipped triangles, that makes
     // progress (the others are tried only if the longest makes none).
-    bool find_split(const Aabb& box, const Aabb& tight, std::span<const TriExtent> extents,
-                    Split& split) const
+    bool find_split(const Aabb& box, const ExtentSummary& summary,
+                    std::span<const TriExtent> extents, Split& split) const
     {
+        const Aabb& tight = summary.tight;
         // Insertion sort, stable like std::stable_sort, which allocates a buffer on every call
         // (once per node).
         std::array<int, 3> axes{0, 1, 2};
@@ -460,7 +468,7 @@ private:
                 std::swap(axes[j], axes[j - 1]);
         for (int axis : axes) {
             if (!(tight.extent(axis) > 0.0f)) break;
-            if (try_split(box, tight, axis, extents, split)) return true;
+            if (try_split(box, summary, axis, extents, split)) return true;
         }
         return false;
     }
@@ -524,9 +532,10 @@ private:
 
     // Fills `split` for `axis` and says whether it makes progress (BuildConfig's
     // no_progress_fraction and stop_by_cost).
-    bool try_split(const Aabb& box, const Aabb& tight, int axis,
+    bool try_split(const Aabb& box, const ExtentSummary& summary, int axis,
                    std::span<const TriExtent> extents, Split& split) const
     {
+        const Aabb& tight = summary.tight;
         const std::size_t n = extents.size();
         // Bounding planes: the tight extent widened by the pad (so points a few ulps off a
         // triangle stay inside), kept within the node's box.
@@ -542,14 +551,7 @@ private:
         if (config_.min_cell_width > 0.0) {
             // The whole triangles' extent, not the clipped one: clipped pieces shrink with the
             // cells, and a cap on them would let every level slice finer than the last.
-            double extent_sum = 0.0;
-            std::size_t kept = 0;
-            for (const TriExtent& e : extents)
-                if (!e.is_empty) {
-                    extent_sum += e.size[axis];
-                    ++kept;
-                }
-            const double mean_extent = kept > 0 ? extent_sum / static_cast<double>(kept) : 0.0;
+            const double mean_extent = summary.mean_size[static_cast<std::size_t>(axis)];
             const double cap = (double(split.hi) - split.lo) / (config_.min_cell_width * mean_extent);
             if (mean_extent > 0.0 && cap < split.resolution)
                 split.resolution = static_cast<std::uint32_t>(std::max(2.0, std::floor(cap)));
@@ -694,22 +696,55 @@ private:
         return e;
     }
 
-    static Aabb reduce_box(std::span<const TriExtent> extents)
+    // The tight box (min and max are exact, so any reduction order gives the same box) and
+    // the mean sizes, summed in the triangles' order so that they do not depend on the
+    // thread count. A box grows by a piece's lower corner on the lower side and its upper
+    // corner on the upper side only: six comparisons, not the twelve of Aabb::extend by both
+    // corners, with the same result for a piece whose lower corner is not above its upper.
+    // It also joins the parallel part's boxes right where a range held only empty pieces:
+    // Aabb::extend takes an empty box's corners (+inf, -inf) as points, and its box grew
+    // infinite.
+    ExtentSummary summarize(std::span<const TriExtent> extents) const
     {
+        auto grow = [](Aabb& box, const Vec3f& lower, const Vec3f& upper) {
+            box.lower = {std::min(box.lower.x, lower.x), std::min(box.lower.y, lower.y),
+                         std::min(box.lower.z, lower.z)};
+            box.upper = {std::max(box.upper.x, upper.x), std::max(box.upper.y, upper.y),
+                         std::max(box.upper.z, upper.z)};
+        };
         auto body = [&](const tbb::blocked_range<std::size_t>& r, Aabb box) {
-            for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                if (extents[k].is_empty) continue;
-                box.extend(extents[k].lower);
-                box.extend(extents[k].upper);
-            }
+            for (std::size_t k = r.begin(); k < r.end(); ++k)
+                if (!extents[k].is_empty) grow(box, extents[k].lower, extents[k].upper);
             return box;
         };
+        ExtentSummary summary;
+        const bool serial = extents.size() < parallel_grain;
         const tbb::blocked_range<std::size_t> all(0, extents.size(), parallel_grain);
-        if (extents.size() < parallel_grain) return body(all, Aabb{});
-        return tbb::parallel_reduce(all, Aabb{}, body, [](Aabb a, const Aabb& b) {
-            a.extend(b);
-            return a;
-        });
+        if (!serial)
+            summary.tight = tbb::parallel_reduce(all, Aabb{}, body, [&](Aabb a, const Aabb& b) {
+                grow(a, b.lower, b.upper);
+                return a;
+            });
+        if (!(config_.min_cell_width > 0.0)) {
+            if (serial) summary.tight = body(all, Aabb{});
+            return summary;
+        }
+        // One pass for the sums, and below parallel_grain for the box too.
+        double sum_x = 0.0, sum_y = 0.0, sum_z = 0.0;
+        std::size_t kept = 0;
+        for (const TriExtent& e : extents) {
+            if (e.is_empty) continue;
+            if (serial) grow(summary.tight, e.lower, e.upper);
+            sum_x += e.size.x;
+            sum_y += e.size.y;
+            sum_z += e.size.z;
+            ++kept;
+        }
+        if (kept > 0) {
+            const auto count = static_cast<double>(kept);
+            summary.mean_size = {sum_x / count, sum_y / count, sum_z / count};
+        }
+        return summary;
     }
 
     BuiltCell make_leaf(std::vector<std::uint32_t> tris, double weight)
