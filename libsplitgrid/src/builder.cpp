@@ -155,7 +155,8 @@ public:
         const std::size_t n = tris.size();
         extents.resize(n);
         Split split;
-        const Plan plan = plan_cell(box, tris.data(), extents.data(), n, depth, kept_all, split);
+        const Plan plan =
+            plan_cell(box, tris.data(), extents.data(), n, depth, kept_all, false, split);
         if (!plan.is_node) return wrap(plan.bounds, make_leaf(std::move(tris), weight));
 
         const int axis = split.axis;
@@ -170,7 +171,8 @@ public:
             cell_extents[c].reserve(split.counts[c]);
         }
         std::vector<Aabbd> unused;
-        distribute(box, plan, split, tris.data(), extents.data(), n, nullptr, unused,
+        // The children clip their triangles in parallel, each to its own box (distribute).
+        (void)distribute(box, plan, split, tris.data(), extents.data(), n, nullptr, unused,
                    [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
                        cell_tris[c].push_back(tris[k]);
                        cell_extents[c].push_back(e);
@@ -215,13 +217,15 @@ private:
     // The decisions for a cell covering `box` with the n triangles `tris` (all known to touch
     // the padded box) at `depth`, the same for build_cell and build_serial. `extents` holds
     // n entries: per triangle its clipped extent in this box where the parent already knew
-    // it; the others are clipped here. Fills `split` for a node.
+    // it; the others are clipped here, unless `all_known` says there are none (so no pass
+    // looks for them). Fills `split` for a node.
     Plan plan_cell(const Aabb& box, const std::uint32_t* tris, TriExtent* extents, std::size_t n,
-                   std::uint32_t depth, std::uint32_t kept_all, Split& split) const
+                   std::uint32_t depth, std::uint32_t kept_all, bool all_known,
+                   Split& split) const
     {
         Plan plan;
         if (ends_as_plain_leaf(n, depth)) return plan;
-        clip_unknown(box, tris, extents, n);
+        if (!all_known) clip_unknown(box, tris, extents, n);
         const std::span<const TriExtent> clipped(extents, n);
         const ExtentSummary summary = summarize(clipped);
         const Aabb& tight = summary.tight;
@@ -261,9 +265,11 @@ private:
     // once instead of once per cell (2.0 cells per straddling triangle on the dragon).
     // `cell_counts` (when clipping pieces) holds the number of triangles each cell gets: a
     // cell that becomes a leaf without looking at its extents gets no pieces. `cell_boxes`
-    // is working memory for the cells' padded boxes.
+    // is working memory for the cells' padded boxes. Returns false where a cell that looks
+    // at its extents got one not computed yet (unclipped pieces, or a polygon that rounding
+    // lost), so that the cells know whether they have to look for such extents.
     template <class Put>
-    void distribute(const Aabb& box, const Plan& plan, const Split& split,
+    bool distribute(const Aabb& box, const Plan& plan, const Split& split,
                     const std::uint32_t* tris, const TriExtent* extents, std::size_t n,
                     const std::uint32_t* cell_counts, std::vector<Aabbd>& cell_boxes,
                     const Put& put) const
@@ -280,6 +286,7 @@ private:
             return !ends_as_plain_leaf(cell_counts[c], plan.child_depth);
         };
         ClippedTriangle polygon;
+        bool all_known = true;
         for (std::size_t k = 0; k < n; ++k) {
             const std::uint32_t first = split.first[k];
             const std::uint32_t last = split.last[k];
@@ -294,6 +301,9 @@ private:
                 clipped = wanted && polygon.clip(Vec3d(mesh_.vertex(tris[k], 0)),
                                                  Vec3d(mesh_.vertex(tris[k], 1)),
                                                  Vec3d(mesh_.vertex(tris[k], 2)), clip_box);
+                all_known = all_known && clipped == wanted;
+            } else if (first < last) {
+                all_known = false;
             }
             for (std::uint32_t c = first; c <= last; ++c) {
                 if (!clipped || !wants_extents(c)) {
@@ -308,6 +318,7 @@ private:
                         : empty_extent());
             }
         }
+        return all_known;
     }
 
     // A child's share of its parent's weight (progress reports): its share of the references.
@@ -329,7 +340,8 @@ private:
         BuiltCell cell;
         cell.fragment = std::make_unique<Fragment>();
         Fragment& fragment = *cell.fragment;
-        fragment.root = build_serial(box, 0, n, n, depth, weight, kept_all, scratch, fragment);
+        fragment.root =
+            build_serial(box, 0, n, n, depth, weight, kept_all, false, scratch, fragment);
         cell.kind = fragment.root.kind();
         // Fragments wait for flatten() until the whole tree is built: no spare capacity.
         fragment.nodes.shrink_to_fit();
@@ -342,14 +354,14 @@ private:
     // of the scratch stacks, written to `out` in depth-first pre-order (a node's record, its
     // cells as one block, then its children), which is the order flatten() gives the parallel
     // part. `top` is the first free place on the stacks; the children's triangles are stacked
-    // there, cell after cell.
+    // there, cell after cell. `all_known`: every extent on the stack is computed already.
     CellRef build_serial(const Aabb& box, std::size_t begin, std::size_t n, std::size_t top,
                          std::uint32_t depth, double weight, std::uint32_t kept_all,
-                         Scratch& s, Fragment& out)
+                         bool all_known, Scratch& s, Fragment& out)
     {
         if (n == 0) return CellRef::make_empty();
         const Plan plan = plan_cell(box, s.tris.data() + begin, s.extents.data() + begin, n,
-                                    depth, kept_all, s.split);
+                                    depth, kept_all, all_known, s.split);
         Chain chain;
         emit_bounds(plan.bounds, chain, out);
         if (!plan.is_node) {
@@ -375,13 +387,14 @@ private:
             s.tris.resize(child_top);
             s.extents.resize(child_top);
         }
-        distribute(box, plan, split, s.tris.data() + begin, s.extents.data() + begin, n,
-                   s.cell_counts.data() + counts_at, s.cell_boxes,
-                   [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
-                       const std::size_t to = top + split.counts[c]++;
-                       s.tris[to] = s.tris[begin + k];
-                       s.extents[to] = e;
-                   });
+        const bool children_known = distribute(
+            box, plan, split, s.tris.data() + begin, s.extents.data() + begin, n,
+            s.cell_counts.data() + counts_at, s.cell_boxes,
+            [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
+                const std::size_t to = top + split.counts[c]++;
+                s.tris[to] = s.tris[begin + k];
+                s.extents[to] = e;
+            });
         const std::size_t total_refs = child_top - top;
 
         const std::uint32_t first_cell = chain.add_node(axis, cm.lo, cm.hi, resolution, out);
@@ -392,7 +405,7 @@ private:
             const CellRef child =
                 build_serial(cm.cell_box(plan.bounded, axis, c), child_begin, count, child_top,
                              plan.child_depth, share(weight, count, total_refs),
-                             count == n ? kept_all + 1 : 0, s, out);
+                             count == n ? kept_all + 1 : 0, children_known, s, out);
             out.cells[first_cell + c] = child;
             child_begin += count;
         }
