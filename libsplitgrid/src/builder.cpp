@@ -96,7 +96,8 @@ struct BuiltNode {
 
 // What planning a node needs from its triangles' extents, gathered in one pass over them: the
 // tight box of the clipped pieces and, per axis, the mean size of the whole triangles whose
-// pieces are not empty (BuildConfig::min_cell_width; zero where there are none).
+// pieces are not empty (BuildConfig::min_cell_width; zero where there are none, and when
+// min_cell_width is off).
 struct ExtentSummary {
     Aabb tight;
     std::array<double, 3> mean_size{};
@@ -172,7 +173,7 @@ public:
         }
         std::vector<Aabbd> unused;
         // The children clip their triangles in parallel, each to its own box (distribute).
-        (void)distribute(box, plan, split, tris.data(), extents.data(), n, nullptr, unused,
+        distribute(box, plan, split, tris.data(), extents.data(), n, nullptr, unused,
                    [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
                        cell_tris[c].push_back(tris[k]);
                        cell_extents[c].push_back(e);
@@ -265,7 +266,7 @@ private:
     // once instead of once per cell (2.0 cells per straddling triangle on the dragon).
     // `cell_counts` (when clipping pieces) holds the number of triangles each cell gets: a
     // cell that becomes a leaf without looking at its extents gets no pieces. `cell_boxes`
-    // is working memory for the cells' padded boxes. Returns false where a cell that looks
+    // is working memory for the cells' padded boxes. Returns false when a cell that looks
     // at its extents got one not computed yet (unclipped pieces, or a polygon that rounding
     // lost), so that the cells know whether they have to look for such extents.
     template <class Put>
@@ -301,7 +302,7 @@ private:
                 clipped = wanted && polygon.clip(Vec3d(mesh_.vertex(tris[k], 0)),
                                                  Vec3d(mesh_.vertex(tris[k], 1)),
                                                  Vec3d(mesh_.vertex(tris[k], 2)), clip_box);
-                all_known = all_known && clipped == wanted;
+                all_known = all_known && (clipped || !wanted);
             } else if (first < last) {
                 all_known = false;
             }
@@ -354,7 +355,8 @@ private:
     // of the scratch stacks, written to `out` in depth-first pre-order (a node's record, its
     // cells as one block, then its children), which is the order flatten() gives the parallel
     // part. `top` is the first free place on the stacks; the children's triangles are stacked
-    // there, cell after cell. `all_known`: every extent on the stack is computed already.
+    // there, cell after cell. `all_known`: this cell's extents are all computed, or it becomes a
+    // leaf without reading them (ends_as_plain_leaf).
     CellRef build_serial(const Aabb& box, std::size_t begin, std::size_t n, std::size_t top,
                          std::uint32_t depth, double weight, std::uint32_t kept_all,
                          bool all_known, Scratch& s, Fragment& out)
@@ -709,7 +711,8 @@ private:
         return e;
     }
 
-    // The tight box (min and max are exact, so any reduction order gives the same box) and
+    // The tight box (min and max are exact, so any reduction order gives the same box, up to
+    // the sign of a zero, which the pad added to each side of it erases) and
     // the mean sizes, summed in the triangles' order so that they do not depend on the
     // thread count. A box grows by a piece's lower corner on the lower side and its upper
     // corner on the upper side only: six comparisons, not the twelve of Aabb::extend by both
