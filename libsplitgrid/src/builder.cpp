@@ -714,31 +714,20 @@ private:
     // The tight box (min and max are exact, so any reduction order gives the same box, up to
     // the sign of a zero, which the pad added to each side of it erases) and
     // the mean sizes, summed in the triangles' order so that they do not depend on the
-    // thread count. A box grows by a piece's lower corner on the lower side and its upper
-    // corner on the upper side only: six comparisons, not the twelve of Aabb::extend by both
-    // corners, with the same result for a piece whose lower corner is not above its upper.
-    // It also joins the parallel part's boxes right where a range held only empty pieces:
-    // Aabb::extend takes an empty box's corners (+inf, -inf) as points, and its box grew
-    // infinite.
+    // thread count.
     ExtentSummary summarize(std::span<const TriExtent> extents) const
     {
-        auto grow = [](Aabb& box, const Vec3f& lower, const Vec3f& upper) {
-            box.lower = {std::min(box.lower.x, lower.x), std::min(box.lower.y, lower.y),
-                         std::min(box.lower.z, lower.z)};
-            box.upper = {std::max(box.upper.x, upper.x), std::max(box.upper.y, upper.y),
-                         std::max(box.upper.z, upper.z)};
-        };
         auto body = [&](const tbb::blocked_range<std::size_t>& r, Aabb box) {
             for (std::size_t k = r.begin(); k < r.end(); ++k)
-                if (!extents[k].is_empty) grow(box, extents[k].lower, extents[k].upper);
+                if (!extents[k].is_empty) box.extend(Aabb{extents[k].lower, extents[k].upper});
             return box;
         };
         ExtentSummary summary;
         const bool serial = extents.size() < parallel_grain;
         const tbb::blocked_range<std::size_t> all(0, extents.size(), parallel_grain);
         if (!serial)
-            summary.tight = tbb::parallel_reduce(all, Aabb{}, body, [&](Aabb a, const Aabb& b) {
-                grow(a, b.lower, b.upper);
+            summary.tight = tbb::parallel_reduce(all, Aabb{}, body, [](Aabb a, const Aabb& b) {
+                a.extend(b);
                 return a;
             });
         if (!(config_.min_cell_width > 0.0)) {
@@ -750,7 +739,7 @@ private:
         std::size_t kept = 0;
         for (const TriExtent& e : extents) {
             if (e.is_empty) continue;
-            if (serial) grow(summary.tight, e.lower, e.upper);
+            if (serial) summary.tight.extend(Aabb{e.lower, e.upper});
             sum_x += e.size.x;
             sum_y += e.size.y;
             sum_z += e.size.z;

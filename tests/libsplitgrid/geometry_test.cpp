@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "splitgrid/aabb.hpp"
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/clip.hpp"
 #include "splitgrid/float_step.hpp"
@@ -36,6 +37,27 @@ TEST(Resolution, FollowsTheGaussianFormula)
     EXPECT_EQ(node_resolution(c, 100000), 66u);
     for (std::size_t n = 0; n < 2000; n += 7)
         EXPECT_LE(node_resolution(c, n), node_resolution(c, n + 7)) << "not monotone at " << n;
+}
+
+// A box grows by another side by side, so an empty box (the default, +inf / -inf corners)
+// adds nothing; growing by its corners as points made the result infinite.
+TEST(Aabb, ExtendByAnEmptyBoxKeepsTheBox)
+{
+    Aabb box{{-1.0f, 2.0f, 0.5f}, {3.0f, 4.0f, 0.5f}};
+    box.extend(Aabb{});
+    EXPECT_EQ(box.lower, (Vec3f{-1.0f, 2.0f, 0.5f}));
+    EXPECT_EQ(box.upper, (Vec3f{3.0f, 4.0f, 0.5f}));
+
+    Aabb empty;
+    empty.extend(Aabb{});
+    EXPECT_TRUE(empty.is_empty());
+    empty.extend(box);
+    EXPECT_EQ(empty.lower, (Vec3f{-1.0f, 2.0f, 0.5f}));
+    EXPECT_EQ(empty.upper, (Vec3f{3.0f, 4.0f, 0.5f}));
+
+    box.extend(Aabb{{-2.0f, 3.0f, 0.0f}, {0.0f, 5.0f, 0.25f}});
+    EXPECT_EQ(box.lower, (Vec3f{-2.0f, 2.0f, 0.0f}));
+    EXPECT_EQ(box.upper, (Vec3f{3.0f, 5.0f, 0.5f}));
 }
 
 TEST(CellMath, BoundariesAreMonotoneAndLocateAgreesWithLinearSearch)

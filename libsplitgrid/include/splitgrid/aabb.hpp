@@ -24,10 +24,14 @@ struct Aabb {
         lower = {std::min(lower.x, p.x), std::min(lower.y, p.y), std::min(lower.z, p.z)};
         upper = {std::max(upper.x, p.x), std::max(upper.y, p.y), std::max(upper.z, p.z)};
     }
+    /// Grows by box b, side by side: b's lower corner can only lower this box's lower side
+    /// and its upper corner only raise the upper side, so an empty b adds nothing.
     constexpr void extend(const Aabb& b) noexcept
     {
-        extend(b.lower);
-        extend(b.upper);
+        lower = {std::min(lower.x, b.lower.x), std::min(lower.y, b.lower.y),
+                 std::min(lower.z, b.lower.z)};
+        upper = {std::max(upper.x, b.upper.x), std::max(upper.y, b.upper.y),
+                 std::max(upper.z, b.upper.z)};
     }
     [[nodiscard]] constexpr float extent(int axis) const noexcept
     {

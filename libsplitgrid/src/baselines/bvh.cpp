@@ -57,13 +57,6 @@ float centroid(const PrimRef& p, int axis) noexcept
     return 0.5f * p.box.lower[axis] + 0.5f * p.box.upper[axis];
 }
 
-// Aabb::extend(Aabb) takes the corners as points, so an empty box (+inf, -inf) would make
-// the result infinite: skip it.
-void merge(Aabb& into, const Aabb& box) noexcept
-{
-    if (!box.is_empty()) into.extend(box);
-}
-
 // Box of a node's triangles and box of their centroids.
 struct Extent {
     Aabb bounds;
@@ -75,8 +68,8 @@ struct Extent {
     }
     void add(const Extent& o) noexcept
     {
-        merge(bounds, o.bounds);
-        merge(centroids, o.centroids);
+        bounds.extend(o.bounds);
+        centroids.extend(o.centroids);
     }
 };
 
@@ -98,7 +91,7 @@ struct Bins {
     {
         for (std::size_t k = 0; k < 3; ++k)
             for (std::size_t i = k * max_bins; i < k * max_bins + bins; ++i) {
-                merge(bounds[i], o.bounds[i]);
+                bounds[i].extend(o.bounds[i]);
                 count[i] += o.count[i];
             }
     }
