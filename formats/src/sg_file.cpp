@@ -146,7 +146,7 @@ std::vector<std::uint8_t> encode_sg(const SgContents& contents)
     // Nodes and cells go through their accessors: see SgNodeRecord for why.
     std::uint8_t* node_out = section_start(SgSection::nodes);
     for (const GridNode& node : contents.grid.nodes) {
-        const detail::SgNodeRecord r{node.lo, node.hi, node.first_cell(), node.axis_res_bits()};
+        const detail::SgNodeRecord r{node.lo, node.hi, node.cells_bits(), node.axis_res_bits()};
         std::memcpy(node_out, &r, sizeof r);
         node_out += sizeof r;
     }

@@ -173,10 +173,12 @@ void SgReader::check_magic_and_version() const
         if (version == 0)
             fail_at("invalid format version", offsetof(detail::SgHeader, format_version),
                     std::to_string(sg_format_version), "0");
-        if (version < sg_format_version)
-            fail("format version " + std::to_string(version) +
-                 " is no longer read (its cells are 8 bytes, version 2's are 4): build the "
-                 "file again with sg-build");
+        if (version == 1)
+            fail("format version 1 is no longer read (its cells are 8 bytes, version 3's are "
+                 "4): build the file again with sg-build");
+        if (version == 2)
+            fail("format version 2 is no longer read (it keeps a one-cell node's cell in CELL, "
+                 "version 3 in the node's record): build the file again with sg-build");
     }
 }
 
@@ -394,7 +396,7 @@ SgContents SgReader::decode(const SgReadOptions& options) const
     for (std::size_t at = 0; at < node_records.size(); at += sizeof(detail::SgNodeRecord)) {
         detail::SgNodeRecord r{};
         std::memcpy(&r, node_records.data() + at, sizeof r);
-        contents.grid.nodes.push_back(GridNode::from_raw(r.lo, r.hi, r.first_cell, r.axis_res));
+        contents.grid.nodes.push_back(GridNode::from_raw(r.lo, r.hi, r.cells, r.axis_res));
     }
     const auto cell_records = section_bytes(SgSection::cells);
     contents.grid.cells.reserve(cell_records.size() / sizeof(detail::SgCellRecord));

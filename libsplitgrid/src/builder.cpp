@@ -77,6 +77,28 @@ struct Fragment {
     std::vector<TriangleRef> triangle_refs;
 };
 
+// The record of a new node whose cells are still empty: a one-cell node holds its cell, the
+// others get a block at the end of `cells`.
+GridNode new_node(int axis, float lo, float hi, std::uint32_t resolution,
+                  std::vector<CellRef>& cells)
+{
+    if (resolution == 1) return GridNode::make_one_cell(axis, lo, hi, CellRef::make_empty());
+    const auto first_cell = static_cast<std::uint32_t>(cells.size());
+    cells.resize(cells.size() + resolution);
+    return GridNode::make(axis, lo, hi, resolution, first_cell);
+}
+
+// Stores cell `c` of node `index`, in the node's record or in its block of `cells`.
+void store_cell(std::vector<GridNode>& nodes, std::vector<CellRef>& cells, std::uint32_t index,
+                std::uint32_t c, CellRef cell)
+{
+    GridNode& node = nodes[index];
+    if (node.resolution() == 1)
+        node.set_only_cell(cell);
+    else
+        cells[node.first_cell() + c] = cell;
+}
+
 // The top of the tree, where nodes are built in parallel; flattened into SplitGrid arrays
 // afterwards, in a fixed order, which is what makes the output independent of the thread
 // count. Below parallel_grain triangles a cell holds a Fragment.
@@ -399,46 +421,45 @@ private:
             });
         const std::size_t total_refs = child_top - top;
 
-        const std::uint32_t first_cell = chain.add_node(axis, cm.lo, cm.hi, resolution, out);
+        const std::uint32_t index = chain.add_node(axis, cm.lo, cm.hi, resolution, out);
         std::size_t child_begin = top;
         for (std::uint32_t c = 0; c < resolution; ++c) {
             const std::size_t count = s.cell_counts[counts_at + c];
-            // Built before it is stored: the child appends to out.cells.
+            // Built before it is stored: the child appends to out.nodes and out.cells.
             const CellRef child =
                 build_serial(cm.cell_box(plan.bounded, axis, c), child_begin, count, child_top,
                              plan.child_depth, share(weight, count, total_refs),
                              count == n ? kept_all + 1 : 0, children_known, s, out);
-            out.cells[first_cell + c] = child;
+            store_cell(out.nodes, out.cells, index, c, child);
             child_begin += count;
         }
         s.cell_counts.resize(counts_at);
         return chain.head;
     }
 
-    // Nodes written to a Fragment, each in the one free cell of the one before: the one-cell
+    // Nodes written to a Fragment, each in the one cell of the one before: the one-cell
     // nodes around a cell, outermost first, then the cell's own node or leaf.
     struct Chain {
         CellRef head;
-        std::size_t free_cell = std::numeric_limits<std::size_t>::max();
+        std::size_t last_node = std::numeric_limits<std::size_t>::max();
 
         void link(CellRef ref, Fragment& out)
         {
-            if (free_cell == std::numeric_limits<std::size_t>::max())
+            if (last_node == std::numeric_limits<std::size_t>::max())
                 head = ref;
             else
-                out.cells[free_cell] = ref;
+                out.nodes[last_node].set_only_cell(ref);
         }
-        // Appends a node record and its block of cells; returns the block's first cell.
+        // Appends a node record (and, for two or more cells, its block of cells, still empty)
+        // and links it; returns its index.
         std::uint32_t add_node(int axis, float lo, float hi, std::uint32_t resolution,
                                Fragment& out)
         {
             const auto index = static_cast<std::uint32_t>(out.nodes.size());
-            const auto first_cell = static_cast<std::uint32_t>(out.cells.size());
-            out.nodes.push_back(GridNode::make(axis, lo, hi, resolution, first_cell));
-            out.cells.resize(out.cells.size() + resolution);
+            out.nodes.push_back(new_node(axis, lo, hi, resolution, out.cells));
             link(CellRef::make_inner(index), out);
-            free_cell = first_cell;
-            return first_cell;
+            last_node = index;
+            return index;
         }
     };
 
@@ -804,9 +825,12 @@ CellRef append_fragment(Fragment& fragment, SplitGrid& grid)
     const auto node_base = static_cast<std::uint32_t>(grid.nodes.size());
     const auto cell_base = static_cast<std::uint32_t>(grid.cells.size());
     const auto ref_base = static_cast<std::uint32_t>(grid.triangle_refs.size());
-    for (const GridNode& node : fragment.nodes)
-        grid.nodes.push_back(GridNode::from_raw(node.lo, node.hi, node.first_cell() + cell_base,
-                                                node.axis_res_bits()));
+    for (const GridNode& node : fragment.nodes) {
+        const std::uint32_t cells = node.resolution() == 1
+                                        ? shifted(node.only_cell(), node_base, ref_base).raw_bits()
+                                        : node.first_cell() + cell_base;
+        grid.nodes.push_back(GridNode::from_raw(node.lo, node.hi, cells, node.axis_res_bits()));
+    }
     for (const CellRef cell : fragment.cells) grid.cells.push_back(shifted(cell, node_base, ref_base));
     grid.triangle_refs.insert(grid.triangle_refs.end(), fragment.triangle_refs.begin(),
                               fragment.triangle_refs.end());
@@ -831,7 +855,7 @@ void add_size(const BuiltCell& cell, GridSize& size)
         size.triangle_refs += cell.triangles.size();
     } else if (cell.kind == CellKind::Inner) {
         size.nodes += 1;
-        size.cells += cell.node->cells.size();
+        if (cell.node->cells.size() >= 2) size.cells += cell.node->cells.size();
         for (const BuiltCell& child : cell.node->cells) add_size(child, size);
     }
 }
@@ -865,12 +889,10 @@ CellRef flatten(BuiltCell& cell, SplitGrid& grid)
         grid.cells.size() + node.cells.size() > std::size_t{0xFFFFFFFFu})
         throw InputError("Split Grid too large: more than 2^30 nodes or 2^32 cells");
     const auto index = static_cast<std::uint32_t>(grid.nodes.size());
-    const auto first_cell = static_cast<std::uint32_t>(grid.cells.size());
-    grid.nodes.push_back(GridNode::make(node.axis, node.lo, node.hi,
-                                        static_cast<std::uint32_t>(node.cells.size()), first_cell));
-    grid.cells.resize(grid.cells.size() + node.cells.size());
-    for (std::size_t c = 0; c < node.cells.size(); ++c)
-        grid.cells[first_cell + c] = flatten(node.cells[c], grid);
+    const auto resolution = static_cast<std::uint32_t>(node.cells.size());
+    grid.nodes.push_back(new_node(node.axis, node.lo, node.hi, resolution, grid.cells));
+    for (std::uint32_t c = 0; c < resolution; ++c)
+        store_cell(grid.nodes, grid.cells, index, c, flatten(node.cells[c], grid));
     cell.node.reset();
     return CellRef::make_inner(index);
 }

@@ -36,7 +36,6 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
     s.cost_model = model;
     s.triangle_count = grid.triangle_count;
     s.node_count = grid.nodes.size();
-    s.cell_count = grid.cells.size();
     s.reference_count = grid.triangle_refs.size();
     s.node_bytes = grid.nodes.size() * sizeof(GridNode);
     s.cell_bytes = grid.cells.size() * sizeof(CellRef);
@@ -95,6 +94,7 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
             s.resolution_histogram.resize(p.depth + 1);
         }
         ++s.nodes_per_depth[p.depth];
+        s.cell_count += n;
         s.mean_resolution_per_depth[p.depth] += n;  // divided by the node count below
         bump(s.resolution_histogram[p.depth], log2_bucket(n));
 
@@ -106,7 +106,7 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
 
         const CellMath cm(node.lo, node.hi, n);
         for (std::uint32_t i = 0; i < n; ++i) {
-            const CellRef& cell = grid.cells[node.first_cell() + i];
+            const CellRef cell = node_cell(grid, node, i);
             const Aabb box = cm.cell_box(p.box, axis, i);
             if (cell.is_empty()) ++s.empty_cells;
             if (cell.is_leaf()) add_leaf(cell, box, p.depth + 1);

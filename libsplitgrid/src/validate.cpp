@@ -106,15 +106,17 @@ void check_invariants(const SplitGrid& grid)
             fail(where + ": bounding planes [" + std::to_string(node.lo) + ", " +
                  std::to_string(node.hi) + "] leave the node's box on axis " +
                  std::to_string(axis));
-        const std::uint64_t end = std::uint64_t{node.first_cell()} + n;
-        if (end > grid.cells.size())
-            fail(where + ": cells " + std::to_string(node.first_cell()) + ".." +
-                 std::to_string(end) + " out of range (" + std::to_string(grid.cells.size()) +
-                 " cells)");
-        cells_owned += n;
+        if (n >= 2) {
+            const std::uint64_t end = std::uint64_t{node.first_cell()} + n;
+            if (end > grid.cells.size())
+                fail(where + ": cells " + std::to_string(node.first_cell()) + ".." +
+                     std::to_string(end) + " out of range (" +
+                     std::to_string(grid.cells.size()) + " cells)");
+            cells_owned += n;
+        }
         const CellMath cm(node.lo, node.hi, n);
         for (std::uint32_t i = 0; i < n; ++i) {
-            const CellRef& cell = grid.cells[node.first_cell() + i];
+            const CellRef cell = node_cell(grid, node, i);
             check_cell(grid, cell, where + " cell " + std::to_string(i), ref_seen);
             if (!cell.is_inner()) continue;
             pending.push_back({cell.child(), p.depth + 1, cm.cell_box(p.box, axis, i)});
@@ -124,8 +126,8 @@ void check_invariants(const SplitGrid& grid)
         fail(std::to_string(grid.nodes.size() - nodes_reached) +
              " nodes are not reachable from the root");
     if (cells_owned != grid.cells.size())
-        fail("nodes own " + std::to_string(cells_owned) + " cells but the grid has " +
-             std::to_string(grid.cells.size()));
+        fail("nodes of two or more cells own " + std::to_string(cells_owned) +
+             " cells but the grid has " + std::to_string(grid.cells.size()));
     const auto refs_seen = static_cast<std::size_t>(std::count(ref_seen.begin(), ref_seen.end(), true));
     if (refs_seen != grid.triangle_refs.size())
         fail("leaves hold " + std::to_string(refs_seen) + " references but the grid has " +
@@ -203,7 +205,7 @@ void check_triangle(const SplitGrid& grid, const LeafIndex& leaves,
     const std::uint32_t c1 = cm.locate_highest(
         std::nextafter(static_cast<float>(tmax), std::numeric_limits<float>::infinity()));
     for (std::uint32_t i = c0; i <= c1 && i < n; ++i) {
-        check_triangle(grid, leaves, tri, v, grid.cells[node.first_cell() + i],
+        check_triangle(grid, leaves, tri, v, node_cell(grid, node, i),
                        cm.cell_box(box, axis, i), name + " cell " + std::to_string(i));
     }
 }

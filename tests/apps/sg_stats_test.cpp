@@ -90,7 +90,7 @@ Walk walk(const SplitGrid& grid)
         w.resolution_sum_per_depth[depth] += node.resolution();
         add_to_log2_bin(w.resolution_histogram[depth], node.resolution());
         for (std::uint32_t c = 0; c < node.resolution(); ++c) {
-            const CellRef& cell = grid.cells.at(node.first_cell() + c);
+            const CellRef cell = node_cell(grid, node, c);
             ++w.cells;
             if (cell.is_empty()) ++w.empty;
             if (cell.is_leaf()) count_leaf(w, cell, grid, depth + 1);
@@ -262,7 +262,7 @@ TEST(SgStats, TextReportShowsEveryPart)
     const SgContents contents = read_sg_file(file);
     const GridStats stats = compute_stats(contents.grid);
     for (const std::string& text :
-         {std::string("format version 2"), std::string("random_scene"),
+         {std::string("format version 3"), std::string("random_scene"),
           std::string("resolution per depth"), std::string("mean leaf depth"),
           std::string("duplication factor"), std::string("empty cell fraction"),
           std::string("triangles/leaf"), std::string("bytes/triangle"),

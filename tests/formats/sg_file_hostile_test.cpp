@@ -247,7 +247,7 @@ TEST_F(SgHostile, EveryFlippedByteWithoutChecksumsNeverCrashes)
 
 TEST_F(SgHostile, EveryHeaderByteChangeIsRefusedWithoutChecksums)
 {
-    // Every header byte but the CRC itself has exactly one valid value in version 2.
+    // Every header byte but the CRC itself has exactly one valid value in version 3.
     for (std::size_t i = 0; i < 80; ++i) {
         if (i >= 28 && i < 32) continue;
         std::vector<std::uint8_t> bad = bytes_;
@@ -260,17 +260,22 @@ TEST_F(SgHostile, EveryHeaderByteChangeIsRefusedWithoutChecksums)
 TEST_F(SgHostile, NewerVersionIsRefusedNamingTheVersion)
 {
     std::vector<std::uint8_t> newer = bytes_;
-    store_le<std::uint32_t>(newer, 8, 3);
-    EXPECT_EQ(refusal(newer, "new.sg"), "new.sg: format version 3 is newer than this reader's 2");
+    store_le<std::uint32_t>(newer, 8, 4);
+    EXPECT_EQ(refusal(newer, "new.sg"), "new.sg: format version 4 is newer than this reader's 3");
     store_le<std::uint32_t>(newer, 8, 4000000000u);
     EXPECT_EQ(refusal(newer, "new.sg"),
-              "new.sg: format version 4000000000 is newer than this reader's 2");
-    // Version 1 stored 8-byte cells: refused with a way out.
+              "new.sg: format version 4000000000 is newer than this reader's 3");
+    // Version 1 stored 8-byte cells, version 2 a one-cell node's cell in CELL: refused with a
+    // way out.
     std::vector<std::uint8_t> older = bytes_;
     store_le<std::uint32_t>(older, 8, 1);
     EXPECT_EQ(refusal(older, "old.sg"),
-              "old.sg: format version 1 is no longer read (its cells are 8 bytes, version 2's "
+              "old.sg: format version 1 is no longer read (its cells are 8 bytes, version 3's "
               "are 4): build the file again with sg-build");
+    store_le<std::uint32_t>(older, 8, 2);
+    EXPECT_EQ(refusal(older, "old.sg"),
+              "old.sg: format version 2 is no longer read (it keeps a one-cell node's cell in "
+              "CELL, version 3 in the node's record): build the file again with sg-build");
 
     test::ScratchDir dir;
     store_le<std::uint32_t>(newer, 8, 7);
@@ -280,7 +285,7 @@ TEST_F(SgHostile, NewerVersionIsRefusedNamingTheVersion)
         FAIL() << "accepted";
     } catch (const FormatError& e) {
         EXPECT_EQ(std::string(e.what()),
-                  (dir / "v7.sg").string() + ": format version 7 is newer than this reader's 2");
+                  (dir / "v7.sg").string() + ": format version 7 is newer than this reader's 3");
     }
     EXPECT_THROW((void)read_sg_info(dir / "v7.sg"), FormatError);
 }
@@ -451,6 +456,23 @@ TEST_F(SgHostileIndex, ChildNodeOutOfRange)
     });
 }
 
+TEST_F(SgHostileIndex, OneCellNodeHoldingABadCell)
+{
+    // A one-cell node keeps its cell in its NODE record: a child past the array, a kind 3 word.
+    for (const std::uint32_t bad_bits : {0u, 3u}) {
+        (void)refusal_of([&](SgContents& c) {
+            for (GridNode& node : c.grid.nodes)
+                if (node.resolution() == 1) {
+                    const CellRef child =
+                        CellRef::make_inner(static_cast<std::uint32_t>(c.grid.nodes.size()));
+                    node.set_only_cell(CellRef::from_raw(child.raw_bits() | bad_bits));
+                    return;
+                }
+            FAIL() << "no one-cell node";
+        });
+    }
+}
+
 TEST_F(SgHostileIndex, CellPointingBackToTheRootMakesACycle)
 {
     (void)refusal_of([](SgContents& c) {
@@ -476,9 +498,12 @@ TEST_F(SgHostileIndex, LeafRangePastTheReferenceArray)
 TEST_F(SgHostileIndex, NodeCellRangePastTheCellArray)
 {
     (void)refusal_of([](SgContents& c) {
-        // The node's last cell one past the array's end, whatever its resolution.
-        const GridNode& n = c.grid.nodes.back();
-        c.grid.nodes.back() = GridNode::from_raw(
+        // The last node of two or more cells: its last cell one past the array's end.
+        auto node = std::find_if(c.grid.nodes.rbegin(), c.grid.nodes.rend(),
+                                 [](const GridNode& n) { return n.resolution() >= 2; });
+        ASSERT_NE(node, c.grid.nodes.rend());
+        const GridNode n = *node;
+        *node = GridNode::from_raw(
             n.lo, n.hi, static_cast<std::uint32_t>(c.grid.cells.size()) - n.resolution() + 1,
             n.axis_res_bits());
     });
@@ -489,19 +514,19 @@ TEST_F(SgHostileIndex, NanAndInvertedPlanesAndBadAxis)
     const float nan = std::numeric_limits<float>::quiet_NaN();
     (void)refusal_of([&](SgContents& c) {
         const GridNode& n = c.grid.nodes[1];
-        c.grid.nodes[1] = GridNode::from_raw(nan, n.hi, n.first_cell(), n.axis_res_bits());
+        c.grid.nodes[1] = GridNode::from_raw(nan, n.hi, n.cells_bits(), n.axis_res_bits());
     });
     (void)refusal_of([&](SgContents& c) {
         const GridNode& n = c.grid.nodes[1];
-        c.grid.nodes[1] = GridNode::from_raw(n.hi + 1.0f, n.hi, n.first_cell(), n.axis_res_bits());
+        c.grid.nodes[1] = GridNode::from_raw(n.hi + 1.0f, n.hi, n.cells_bits(), n.axis_res_bits());
     });
     (void)refusal_of([&](SgContents& c) {
         const GridNode& n = c.grid.nodes[0];
-        c.grid.nodes[0] = GridNode::from_raw(n.lo, n.hi, n.first_cell(), n.axis_res_bits() | 3u);
+        c.grid.nodes[0] = GridNode::from_raw(n.lo, n.hi, n.cells_bits(), n.axis_res_bits() | 3u);
     });
     (void)refusal_of([&](SgContents& c) {
         const GridNode& n = c.grid.nodes[0];
-        c.grid.nodes[0] = GridNode::from_raw(n.lo, n.hi, n.first_cell(), n.axis_res_bits() & 3u);
+        c.grid.nodes[0] = GridNode::from_raw(n.lo, n.hi, n.cells_bits(), n.axis_res_bits() & 3u);
     });
     (void)refusal_of([&](SgContents& c) { c.grid.root_box.upper.x = nan; });
 }

@@ -162,7 +162,7 @@ TEST(SgFile, LayoutMatchesFormatDocument)
 
     const std::array<std::uint8_t, 8> magic{0x89, 'S', 'G', 'F', '\r', '\n', 0x1A, '\n'};
     EXPECT_TRUE(std::equal(magic.begin(), magic.end(), f.begin()));
-    EXPECT_EQ(load_le<std::uint32_t>(f, 8), 2u) << "format version";
+    EXPECT_EQ(load_le<std::uint32_t>(f, 8), 3u) << "format version";
     EXPECT_EQ((std::array<std::uint8_t, 4>{f[12], f[13], f[14], f[15]}),
               (std::array<std::uint8_t, 4>{0x04, 0x03, 0x02, 0x01}))
         << "endianness marker 0x01020304 stored little-endian";
@@ -251,7 +251,7 @@ TEST(SgFile, LayoutMatchesFormatDocument)
     const std::size_t n = section_offset(4) + 16 * (c.grid.nodes.size() - 1);
     EXPECT_EQ(load_le<float>(f, n + 0), node.lo);
     EXPECT_EQ(load_le<float>(f, n + 4), node.hi);
-    EXPECT_EQ(load_le<std::uint32_t>(f, n + 8), node.first_cell());
+    EXPECT_EQ(load_le<std::uint32_t>(f, n + 8), node.cells_bits());
     EXPECT_EQ(load_le<std::uint32_t>(f, n + 12) & 3u, static_cast<std::uint32_t>(node.axis()));
     EXPECT_EQ(load_le<std::uint32_t>(f, n + 12) >> 2, node.resolution());
     const CellRef& cell = c.grid.cells.back();
@@ -274,7 +274,7 @@ TEST(SgFile, InfoReadsTheHeaderAndTable)
     const SgContents c = random_contents(9, 150);
     write_sg_file(dir / "x.sg", c);
     const SgFileInfo info = read_sg_info(dir / "x.sg");
-    EXPECT_EQ(info.format_version, 2u);
+    EXPECT_EQ(info.format_version, 3u);
     EXPECT_EQ(info.file_bytes, std::filesystem::file_size(dir / "x.sg"));
     ASSERT_EQ(info.sections.size(), 7u);
     EXPECT_EQ(info.sections[2].name, "VERT");

@@ -227,7 +227,7 @@ void collect_node_boxes(const SplitGrid& grid, std::uint32_t node, const Aabb& b
     const GridNode& n = grid.nodes[node];
     const CellMath cm(n.lo, n.hi, n.resolution());
     for (std::uint32_t c = 0; c < n.resolution(); ++c) {
-        const CellRef cell = grid.cells[n.first_cell() + c];
+        const CellRef cell = node_cell(grid, n, c);
         if (cell.is_inner()) collect_node_boxes(grid, cell.child(), cm.cell_box(box, n.axis(), c), boxes);
     }
 }

@@ -28,7 +28,7 @@ TEST(Stats, CountsMatchAnIndependentWalk)
         ++per_depth[depth];
         const GridNode& n = grid.nodes[node];
         for (std::uint32_t i = 0; i < n.resolution(); ++i) {
-            const CellRef& c = grid.cells[n.first_cell() + i];
+            const CellRef c = node_cell(grid, n, i);
             if (c.is_empty()) ++empty;
             if (c.is_inner()) {
                 ++inner;

@@ -88,7 +88,7 @@ TEST(Validate, RefusesEachKindOfCorruption)
     expect_refused(g, "is not a valid cell");
 
     g = f.grid;
-    g.nodes[1] = GridNode::from_raw(g.nodes[1].lo, g.nodes[1].hi, g.nodes[1].first_cell(),
+    g.nodes[1] = GridNode::from_raw(g.nodes[1].lo, g.nodes[1].hi, g.nodes[1].cells_bits(),
                                     g.nodes[1].axis_res_bits() | 3u);
     expect_refused(g, "axis 3");
 
@@ -100,10 +100,37 @@ TEST(Validate, RefusesEachKindOfCorruption)
     g.nodes[0].lo = g.root_box.lower[g.nodes[0].axis()] - 1.0f;
     expect_refused(g, "leave the node's box");
 
+    const std::size_t multi = [&] {
+        for (std::size_t k = 0; k < f.grid.nodes.size(); ++k)
+            if (f.grid.nodes[k].resolution() >= 2) return k;
+        return std::size_t{0};
+    }();
     g = f.grid;
-    g.nodes[1] = GridNode::from_raw(g.nodes[1].lo, g.nodes[1].hi,
-                                    static_cast<std::uint32_t>(g.cells.size()),
-                                    g.nodes[1].axis_res_bits());
+    g.nodes[multi] = GridNode::from_raw(g.nodes[multi].lo, g.nodes[multi].hi,
+                                        static_cast<std::uint32_t>(g.cells.size()),
+                                        g.nodes[multi].axis_res_bits());
+    expect_refused(g, "out of range");
+
+    // A one-cell node keeps its cell in its record: the same checks apply to that cell.
+    const std::size_t single = [&] {
+        for (std::size_t k = 0; k < f.grid.nodes.size(); ++k)
+            if (f.grid.nodes[k].resolution() == 1 && f.grid.nodes[k].only_cell().is_inner())
+                return k;
+        return std::size_t{0};
+    }();
+    ASSERT_EQ(f.grid.nodes[single].resolution(), 1u);
+    g = f.grid;
+    g.nodes[single].set_only_cell(CellRef::make_inner(static_cast<std::uint32_t>(g.nodes.size())));
+    expect_refused(g, "out of range");
+    g = f.grid;
+    g.nodes[single].set_only_cell(CellRef::make_inner(0));
+    expect_refused(g, "more than one cell");
+    g = f.grid;
+    g.nodes[single].set_only_cell(CellRef::from_raw(g.nodes[single].cells_bits() | 3u));
+    expect_refused(g, "is not a valid cell");
+    g = f.grid;
+    g.nodes[single].set_only_cell(
+        CellRef::make_leaf(static_cast<std::uint32_t>(g.triangle_refs.size())));
     expect_refused(g, "out of range");
 
     g = f.grid;
@@ -119,15 +146,15 @@ TEST(Validate, RefusesTreesDeeperThanTheTraversalStack)
     g.triangle_count = 1;
     g.root = CellRef::make_inner(0);
     for (std::uint32_t d = 0; d <= max_supported_depth + 1; ++d) {
-        g.nodes.push_back(GridNode::make(0, 0.0f, 1.0f, 1, d));
-        g.cells.push_back(d == max_supported_depth + 1 ? CellRef::make_leaf(0)
-                                                       : CellRef::make_inner(d + 1));
+        g.nodes.push_back(GridNode::make_one_cell(0, 0.0f, 1.0f,
+                                                  d == max_supported_depth + 1
+                                                      ? CellRef::make_leaf(0)
+                                                      : CellRef::make_inner(d + 1)));
     }
     g.triangle_refs = {TriangleRef::make(0, true)};
     expect_refused(g, "deeper than");
     g.nodes.resize(max_supported_depth + 1);
-    g.cells.resize(max_supported_depth + 1);
-    g.cells.back() = CellRef::make_leaf(0);
+    g.nodes.back().set_only_cell(CellRef::make_leaf(0));
     EXPECT_NO_THROW(check_invariants(g));
 }
 

@@ -125,10 +125,10 @@ void check_scene(const Scene& scene, const BuildConfig& config, const char* conf
     const GridStats stats = compute_stats(grid);
     EXPECT_EQ(stats.triangle_count, mesh.triangles.size());
     EXPECT_EQ(stats.node_count, grid.nodes.size());
-    EXPECT_EQ(stats.cell_count, grid.cells.size());
+    EXPECT_EQ(stats.cell_count, grid.cell_count());
     EXPECT_EQ(stats.reference_count, grid.triangle_refs.size());
     EXPECT_EQ(stats.empty_cells + stats.leaf_cells + stats.inner_cells,
-              grid.cells.size() + (grid.root.is_leaf() ? 1u : 0u));
+              grid.cell_count() + (grid.root.is_leaf() ? 1u : 0u));
     EXPECT_LE(stats.max_depth, config.max_depth);
     EXPECT_EQ(stats.structure_bytes, grid.memory_bytes());
 

@@ -32,7 +32,7 @@ CellRef leaf_at(const SplitGrid& grid, Vec3f p)
         const float x = p[node.axis()];
         if (x < node.lo || x > node.hi) return {};
         const CellMath cm(node.lo, node.hi, node.resolution());
-        cell = grid.cells[node.first_cell() + cm.locate_lowest(x)];
+        cell = node_cell(grid, node, cm.locate_lowest(x));
     }
     return cell;
 }

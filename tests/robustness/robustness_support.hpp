@@ -146,7 +146,7 @@ inline std::vector<NodeBox> node_boxes(const SplitGrid& grid)
         const GridNode& node = grid.nodes[nb.node];
         const CellMath cm(node.lo, node.hi, node.resolution());
         for (std::uint32_t i = node.resolution(); i-- > 0;) {
-            const CellRef cell = grid.cells[node.first_cell() + i];
+            const CellRef cell = node_cell(grid, node, i);
             if (!cell.is_inner()) continue;
             pending.push_back({cell.child(), nb.depth + 1, cm.cell_box(nb.box, node.axis(), i)});
         }
@@ -170,12 +170,15 @@ struct WorkBound {
     std::size_t max_leaf = 0;
 
     explicit WorkBound(const SplitGrid& grid)
-        : nodes(grid.nodes.size()), cells(grid.cells.size()), references(grid.triangle_refs.size())
+        : nodes(grid.nodes.size()), references(grid.triangle_refs.size())
     {
-        for (const GridNode& n : grid.nodes)
+        for (const GridNode& n : grid.nodes) {
             max_resolution = std::max<std::size_t>(max_resolution, n.resolution());
-        for (const CellRef& c : grid.cells)
-            if (c.is_leaf()) max_leaf = std::max(max_leaf, leaf_triangles(grid, c).size());
+            cells += n.resolution();
+            for (std::uint32_t i = 0; i < n.resolution(); ++i)
+                if (const CellRef c = node_cell(grid, n, i); c.is_leaf())
+                    max_leaf = std::max(max_leaf, leaf_triangles(grid, c).size());
+        }
         if (grid.root.is_leaf())
             max_leaf = std::max(max_leaf, leaf_triangles(grid, grid.root).size());
     }

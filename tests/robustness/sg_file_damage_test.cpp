@@ -364,7 +364,7 @@ TEST_F(SgDamage, ValidChecksumsWithBadIndicesCyclesAndNanPlanesStayWithinTheMemo
         }
     const GridNode& n = contents_.grid.nodes[1];
     forged[3].grid.nodes[1] = GridNode::from_raw(std::numeric_limits<float>::quiet_NaN(), n.hi,
-                                                 n.first_cell(), n.axis_res_bits());
+                                                 n.cells_bits(), n.axis_res_bits());
     forged[4].grid.root =
         CellRef::make_inner(static_cast<std::uint32_t>(contents_.grid.nodes.size()));
     for (std::size_t k = 0; k < forged.size(); ++k) {

@@ -219,9 +219,10 @@ TEST(Termination, RaysThroughTheDeepestAcceptedChainReachItsLeaf)
     g.triangle_count = 1;
     g.root = CellRef::make_inner(0);
     for (std::uint32_t d = 0; d <= max_supported_depth; ++d) {
-        g.nodes.push_back(GridNode::make(static_cast<int>(d % 3), 0.0f, 1.0f, 1, d));
-        g.cells.push_back(d == max_supported_depth ? CellRef::make_leaf(0)
-                                                   : CellRef::make_inner(d + 1));
+        g.nodes.push_back(GridNode::make_one_cell(static_cast<int>(d % 3), 0.0f, 1.0f,
+                                                  d == max_supported_depth
+                                                      ? CellRef::make_leaf(0)
+                                                      : CellRef::make_inner(d + 1)));
     }
     g.triangle_refs = {TriangleRef::make(0, true)};
     Mesh mesh;

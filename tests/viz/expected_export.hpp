@@ -81,7 +81,7 @@ inline Totals walk_node(const SplitGrid& grid, std::uint32_t id, const Aabb& box
 
     const CellMath cm(node.lo, node.hi, node.resolution());
     for (std::uint32_t i = 0; i < node.resolution(); ++i) {
-        const CellRef& cell = grid.cells.at(node.first_cell() + i);
+        const CellRef cell = node_cell(grid, node, i);
         ExpectedCell c;
         c.box = box;
         c.box.lower[axis] = cm.boundary(i);

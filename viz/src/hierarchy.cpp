@@ -46,7 +46,7 @@ Hierarchy analyse_hierarchy(const SplitGrid& grid, const CostModel& model)
         const GridNode& node = grid.nodes[id];
         const CellMath cm(node.lo, node.hi, node.resolution());
         for (std::uint32_t i = 0; i < node.resolution(); ++i) {
-            const CellRef& cell = grid.cells[node.first_cell() + i];
+            const CellRef cell = node_cell(grid, node, i);
             if (!cell.is_inner()) continue;
             NodeFacts& child = h.nodes[cell.child()];
             child.box = cm.cell_box(h.nodes[id].box, node.axis(), i);
@@ -70,7 +70,7 @@ Hierarchy analyse_hierarchy(const SplitGrid& grid, const CostModel& model)
                 expected_cells_crossed(slab, axis, node.resolution());
         const CellMath cm(node.lo, node.hi, node.resolution());
         for (std::uint32_t i = 0; i < node.resolution(); ++i) {
-            const CellRef& cell = grid.cells[node.first_cell() + i];
+            const CellRef cell = node_cell(grid, node, i);
             facts.subtree_references += cell_references(h, cell);
             facts.subtree_cost += cell_cost(h, cell, cm.cell_box(facts.box, axis, i));
         }

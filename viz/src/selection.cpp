@@ -33,7 +33,7 @@ std::vector<std::uint32_t> selected_nodes(const SplitGrid& grid, const Hierarchy
         if (depth >= selection.min_depth) selected.push_back(id);
         const GridNode& node = grid.nodes[id];
         for (std::uint32_t i = node.resolution(); i-- > 0;) {
-            const CellRef& cell = grid.cells[node.first_cell() + i];
+            const CellRef cell = node_cell(grid, node, i);
             if (cell.is_inner()) pending.push_back(cell.child());
         }
     }

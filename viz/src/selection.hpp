@@ -74,7 +74,7 @@ void for_each_cell(const SplitGrid& grid, const Hierarchy& hierarchy,
         const NodeFacts& facts = hierarchy.nodes[id];
         const CellMath cm(node.lo, node.hi, node.resolution());
         for (std::uint32_t i = 0; i < node.resolution(); ++i) {
-            const CellRef& cell = grid.cells[node.first_cell() + i];
+            const CellRef cell = node_cell(grid, node, i);
             if (!is_exported(cell, selection)) continue;
             CellRecord r;
             r.box = cm.cell_box(facts.box, node.axis(), i);

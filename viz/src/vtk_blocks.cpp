@@ -271,7 +271,8 @@ void add_field_data(vtkDataObject& block, const FieldFacts& facts)
 
     add_field<vtkTypeInt64Array>(f, "grid_triangle_count", grid.triangle_count);
     add_field<vtkTypeInt64Array>(f, "grid_node_count", static_cast<vtkTypeInt64>(grid.nodes.size()));
-    add_field<vtkTypeInt64Array>(f, "grid_cell_count", static_cast<vtkTypeInt64>(grid.cells.size()));
+    add_field<vtkTypeInt64Array>(f, "grid_cell_count",
+                                 static_cast<vtkTypeInt64>(grid.cell_count()));
     add_field<vtkTypeInt64Array>(f, "grid_reference_count",
                                  static_cast<vtkTypeInt64>(grid.triangle_refs.size()));
     add_field<vtkDoubleArray>(f, "grid_expected_cost", facts.expected_cost);

@@ -11,72 +11,6 @@ namespace sg {
 inline constexpr std::uint32_t max_resolution_bits = 30;
 inline constexpr std::uint32_t max_node_resolution = (1u << max_resolution_bits) - 1u;
 
-/// An inner node of the Split Grid: a 1D grid along one axis.
-///
-/// Bauszat, Kastner, Eisemann, Magnor, "The Split Grid", Eurographics 2014 poster: a node
-/// holds a split axis, two bounding planes lo <= hi on that axis (the tight extent of its
-/// triangles inside its box) and a resolution N; the slab [lo, hi] is cut into N cells of
-/// equal width. The node's box is implicit: the root box, narrowed on each ancestor's axis to
-/// the ancestor's cell. Nothing of the box is stored.
-///
-/// Layout (16 bytes, 4-byte aligned; all indices 32-bit):
-///   offset  0  float    lo           lower bounding plane on `axis`
-///   offset  4  float    hi           upper bounding plane on `axis`
-///   offset  8  uint32   first_cell   index of cell 0 in SplitGrid::cells; cells
-///                                    first_cell .. first_cell + N - 1 belong to this node
-///   offset 12  uint32   axis_res     bits 0-1: axis (0 = x, 1 = y, 2 = z; 3 is invalid)
-///                                    bits 2-31: resolution N (1 .. 2^30 - 1)
-///
-/// Difference from the poster: the node does not store the cell width; it is recomputed
-/// from lo, hi and N by cell_math.hpp, the one place both builder and traverser use.
-class GridNode {
-public:
-    float lo = 0.0f;
-    float hi = 0.0f;
-
-    /// Builds a node record. Throws ConfigError if axis > 2 or resolution is 0 or too large.
-    [[nodiscard]] static GridNode make(int axis, float lo, float hi, std::uint32_t resolution,
-                                       std::uint32_t first_cell)
-    {
-        if (axis < 0 || axis > 2) throw ConfigError("GridNode: axis must be 0, 1 or 2");
-        if (resolution == 0 || resolution > max_node_resolution)
-            throw ConfigError("GridNode: resolution must be in [1, 2^30 - 1]");
-        GridNode n;
-        n.lo = lo;
-        n.hi = hi;
-        n.first_cell_ = first_cell;
-        n.axis_res_ = static_cast<std::uint32_t>(axis) | (resolution << 2);
-        return n;
-    }
-
-    [[nodiscard]] constexpr int axis() const noexcept { return static_cast<int>(axis_res_ & 3u); }
-    [[nodiscard]] constexpr std::uint32_t resolution() const noexcept { return axis_res_ >> 2; }
-    [[nodiscard]] constexpr std::uint32_t first_cell() const noexcept { return first_cell_; }
-    /// Raw packed word, for file I/O and validation only.
-    [[nodiscard]] constexpr std::uint32_t axis_res_bits() const noexcept { return axis_res_; }
-    /// Rebuilds a record from raw fields without range checks (file reader; check afterwards
-    /// with check_invariants).
-    [[nodiscard]] static constexpr GridNode from_raw(float lo, float hi, std::uint32_t first_cell,
-                                                     std::uint32_t axis_res) noexcept
-    {
-        GridNode n;
-        n.lo = lo;
-        n.hi = hi;
-        n.first_cell_ = first_cell;
-        n.axis_res_ = axis_res;
-        return n;
-    }
-
-    friend constexpr bool operator==(const GridNode&, const GridNode&) = default;
-
-private:
-    std::uint32_t first_cell_ = 0;
-    std::uint32_t axis_res_ = 0;
-};
-static_assert(sizeof(GridNode) == 16 && alignof(GridNode) == 4,
-              "GridNode must be 16 bytes (2 floats + 2 uint32) with no padding");
-static_assert(std::is_trivially_copyable_v<GridNode>, "GridNode is stored in .sg files as bytes");
-
 /// Kinds of cell. `Empty` cells hold nothing; a `Leaf` lists triangles; an `Inner` cell is
 /// refined by a child GridNode.
 enum class CellKind : std::uint8_t { Empty, Leaf, Inner };
@@ -152,6 +86,94 @@ private:
 static_assert(sizeof(CellRef) == 4 && alignof(CellRef) == 4,
               "CellRef must be one uint32 word with no padding");
 static_assert(std::is_trivially_copyable_v<CellRef>, "CellRef is stored in .sg files as bytes");
+
+/// An inner node of the Split Grid: a 1D grid along one axis.
+///
+/// Bauszat, Kastner, Eisemann, Magnor, "The Split Grid", Eurographics 2014 poster: a node
+/// holds a split axis, two bounding planes lo <= hi on that axis (the tight extent of its
+/// triangles inside its box) and a resolution N; the slab [lo, hi] is cut into N cells of
+/// equal width. The node's box is implicit: the root box, narrowed on each ancestor's axis to
+/// the ancestor's cell. Nothing of the box is stored.
+///
+/// Layout (16 bytes, 4-byte aligned; all indices 32-bit):
+///   offset  0  float    lo           lower bounding plane on `axis`
+///   offset  4  float    hi           upper bounding plane on `axis`
+///   offset  8  uint32   cells        N >= 2: first_cell, the index of cell 0 in
+///                                    SplitGrid::cells; cells first_cell .. first_cell + N - 1
+///                                    belong to this node
+///                                    N == 1: only_cell, the node's one cell itself (a CellRef
+///                                    word); it has none in SplitGrid::cells
+///   offset 12  uint32   axis_res     bits 0-1: axis (0 = x, 1 = y, 2 = z; 3 is invalid)
+///                                    bits 2-31: resolution N (1 .. 2^30 - 1)
+///
+/// Differences from the poster: the node does not store the cell width; it is recomputed
+/// from lo, hi and N by cell_math.hpp, the one place both builder and traverser use. A
+/// one-cell node (a bounding node, docs/SPLIT_GRID.md; half of the dragon's nodes) keeps its
+/// cell in the record, so the walk reads it with the planes instead of from a second array,
+/// and the cell costs no 4 bytes of its own (docs/BENCH.md).
+class GridNode {
+public:
+    float lo = 0.0f;
+    float hi = 0.0f;
+
+    /// Builds the record of a node of resolution >= 2 whose cells start at `first_cell`.
+    /// Throws ConfigError if axis > 2 or resolution is below 2 or too large.
+    [[nodiscard]] static GridNode make(int axis, float lo, float hi, std::uint32_t resolution,
+                                       std::uint32_t first_cell)
+    {
+        if (resolution == 1)
+            throw ConfigError("GridNode: a one-cell node holds its cell (make_one_cell)");
+        return make_checked(axis, lo, hi, resolution, first_cell);
+    }
+    /// Builds the record of a one-cell node holding `cell`. Throws ConfigError if axis > 2.
+    [[nodiscard]] static GridNode make_one_cell(int axis, float lo, float hi, CellRef cell)
+    {
+        return make_checked(axis, lo, hi, 1, cell.raw_bits());
+    }
+
+    [[nodiscard]] constexpr int axis() const noexcept { return static_cast<int>(axis_res_ & 3u); }
+    [[nodiscard]] constexpr std::uint32_t resolution() const noexcept { return axis_res_ >> 2; }
+    /// Index of cell 0 in SplitGrid::cells. Precondition: resolution() >= 2.
+    [[nodiscard]] constexpr std::uint32_t first_cell() const noexcept { return cells_; }
+    /// The cell of a one-cell node. Precondition: resolution() == 1.
+    [[nodiscard]] constexpr CellRef only_cell() const noexcept { return CellRef::from_raw(cells_); }
+    /// Sets the cell of a one-cell node (the builder stores a child after its parent).
+    /// Precondition: resolution() == 1.
+    constexpr void set_only_cell(CellRef cell) noexcept { cells_ = cell.raw_bits(); }
+    /// Raw words, for file I/O and validation only.
+    [[nodiscard]] constexpr std::uint32_t cells_bits() const noexcept { return cells_; }
+    [[nodiscard]] constexpr std::uint32_t axis_res_bits() const noexcept { return axis_res_; }
+    /// Rebuilds a record from raw fields without range checks (file reader; check afterwards
+    /// with check_invariants).
+    [[nodiscard]] static constexpr GridNode from_raw(float lo, float hi, std::uint32_t cells,
+                                                     std::uint32_t axis_res) noexcept
+    {
+        GridNode n;
+        n.lo = lo;
+        n.hi = hi;
+        n.cells_ = cells;
+        n.axis_res_ = axis_res;
+        return n;
+    }
+
+    friend constexpr bool operator==(const GridNode&, const GridNode&) = default;
+
+private:
+    [[nodiscard]] static GridNode make_checked(int axis, float lo, float hi,
+                                               std::uint32_t resolution, std::uint32_t cells)
+    {
+        if (axis < 0 || axis > 2) throw ConfigError("GridNode: axis must be 0, 1 or 2");
+        if (resolution == 0 || resolution > max_node_resolution)
+            throw ConfigError("GridNode: resolution must be in [1, 2^30 - 1]");
+        return from_raw(lo, hi, cells, static_cast<std::uint32_t>(axis) | (resolution << 2));
+    }
+
+    std::uint32_t cells_ = 0;
+    std::uint32_t axis_res_ = 0;
+};
+static_assert(sizeof(GridNode) == 16 && alignof(GridNode) == 4,
+              "GridNode must be 16 bytes (2 floats + 2 uint32) with no padding");
+static_assert(std::is_trivially_copyable_v<GridNode>, "GridNode is stored in .sg files as bytes");
 
 /// Largest triangle id a TriangleRef can hold: 2^31 - 2 (2^31 - 1 would collide with the
 /// largest raw word, kept free so no valid reference is all ones).

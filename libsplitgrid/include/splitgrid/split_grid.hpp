@@ -17,7 +17,8 @@ namespace sg {
 /// The root box is the scene's bounding box, padded outward by a few float ulps (see
 /// builder.hpp). `root` is the cell that covers the root box: empty for an empty mesh, a
 /// leaf for a mesh too small to split, otherwise inner with child node 0.
-/// Nodes are in depth-first pre-order; each node's cells are contiguous in `cells`, and each
+/// Nodes are in depth-first pre-order; the cells of each node of two or more cells are
+/// contiguous in `cells` (a one-cell node holds its cell in its record: GridNode), and each
 /// leaf's references contiguous in `triangle_refs`, the last one marked (TriangleRef).
 struct SplitGrid {
     Aabb root_box;
@@ -38,8 +39,25 @@ struct SplitGrid {
                cells.size() * sizeof(CellRef) + triangle_refs.size() * sizeof(TriangleRef);
     }
 
+    /// Cells of all nodes, the sum of their resolutions: `cells` plus one per one-cell node
+    /// (the root cell not counted).
+    [[nodiscard]] std::size_t cell_count() const noexcept
+    {
+        std::size_t count = 0;
+        for (const GridNode& node : nodes) count += node.resolution();
+        return count;
+    }
+
     friend bool operator==(const SplitGrid&, const SplitGrid&) = default;
 };
+
+/// Cell `i` of `node`, wherever it is kept. Precondition: i < node.resolution(), and the
+/// node's cells are in range (check_invariants).
+[[nodiscard]] inline CellRef node_cell(const SplitGrid& grid, const GridNode& node,
+                                       std::uint32_t i) noexcept
+{
+    return node.resolution() == 1 ? node.only_cell() : grid.cells[node.first_cell() + i];
+}
 
 /// The references of a leaf cell: from its first one to the first with the last bit set.
 /// Precondition: `leaf` is a leaf of `grid` and check_invariants(grid) passes. Cost: linear

@@ -46,9 +46,9 @@ inline constexpr std::size_t grid_stack_size = max_supported_depth + 1;
 /// one multiply by 1 / dt (a division that depends on the node's record only, so it runs
 /// beside the clip instead of after it), no correction loop; per cell: one crossing (a
 /// multiply and an add) and two compares; per non-empty cell, a prefetch of what the node's
-/// next cell leads to. Per random ray on the 871k-triangle dragon (`kernel-cost`, AVX2): 2,910
-/// instructions, 22.8 mispredicted branches, 24.4 L1 misses, of which the walk (node entries
-/// and cells) 1,983 / 19.6 / 12.9 and the batched triangle tests 201 / 1.4 / 6.8
+/// next cell leads to. Per random ray on the 871k-triangle dragon (`kernel-cost`, AVX2): 2,848
+/// instructions, 24.7 mispredicted branches, 23.0 L1 misses, of which the walk (node entries
+/// and cells) 1,916 / 20.0 / 11.4 and the batched triangle tests 204 / 1.3 / 6.8
 /// (docs/BENCH.md). A class rather than lambdas: GCC compiles lambdas without the instruction
 /// set of the target region they are written in.
 template <TriangleTest test, class Search>
@@ -144,9 +144,9 @@ private:
     }
 
     // Clips [n0, n1] to the node's slab and sets `c` to a cursor at the first cell the ray may
-    // be in. A one-cell node (a bounding node on one axis) makes no cursor: its cell is
-    // entered at once over the clipped interval, and a chain of them is one loop. Always
-    // inlined, so that `c` stays in registers.
+    // be in. A one-cell node (a bounding node on one axis) makes no cursor: its cell, kept in
+    // its record, is entered at once over the clipped interval, and a chain of them is one
+    // loop. Always inlined, so that `c` stays in registers.
     [[gnu::always_inline]] Entry enter_node(std::uint32_t index, float n0, float n1,
                                             GridCursor& c) noexcept
     {
@@ -154,15 +154,17 @@ private:
             search_.count_node();
             const GridNode node = grid_.nodes[index];
             const std::uint32_t n = node.resolution();
-            if (n != 1 || ray_.extreme) return make_cursor(node, n0, n1, c);
+            if (n != 1) return make_cursor(node, n0, n1, c);
+            // An extreme ray (crossings near FLT_MAX) keeps its interval, as make_cursor's
+            // walk over every cell would.
             const int axis = node.axis();
             if (ray_.parallel[axis]) {
                 const float o = ray_.origin[axis];
                 if (!(o >= node.lo && o <= node.hi)) return Entry::none;
-            } else if (float t_lo; !clip_to_slab(node, axis, n0, n1, t_lo)) {
+            } else if (float t_lo; !ray_.extreme && !clip_to_slab(node, axis, n0, n1, t_lo)) {
                 return Entry::none;
             }
-            const CellRef cell = grid_.cells[node.first_cell()];
+            const CellRef cell = node.only_cell();
             search_.count_cell();
             if (cell.is_leaf())
                 return test_leaf_cell(cell) && search_.done() ? Entry::done : Entry::none;
