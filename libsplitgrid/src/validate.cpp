@@ -79,6 +79,7 @@ void check_invariants(const SplitGrid& grid)
     std::vector<bool> ref_seen(grid.triangle_refs.size(), false);
     check_cell(grid, grid.root, "root cell", ref_seen);
     std::vector<bool> node_seen(grid.nodes.size(), false);
+    std::vector<bool> cell_owned(grid.cells.size(), false);
     std::uint64_t cells_owned = 0;
     std::vector<Pending> pending;
     if (grid.root.is_inner()) pending.push_back({grid.root.child(), 0, grid.root_box});
@@ -112,6 +113,12 @@ void check_invariants(const SplitGrid& grid)
                 fail(where + ": cells " + std::to_string(node.first_cell()) + ".." +
                      std::to_string(end) + " out of range (" +
                      std::to_string(grid.cells.size()) + " cells)");
+            for (std::uint32_t i = 0; i < n; ++i) {
+                if (cell_owned[node.first_cell() + i])
+                    fail(where + ": cell " + std::to_string(node.first_cell() + i) +
+                         " also belongs to another node");
+                cell_owned[node.first_cell() + i] = true;
+            }
             cells_owned += n;
         }
         const CellMath cm(node.lo, node.hi, n);

@@ -138,6 +138,27 @@ TEST(Validate, RefusesEachKindOfCorruption)
     expect_refused(g, "not reachable");
 }
 
+TEST(Validate, RefusesTwoNodesSharingABlockOfCells)
+{
+    // Node 0 has two inner cells; nodes 1 and 2 both claim cells 2..3 (empty), so the count of
+    // owned cells matches the array while cells 4..5 belong to nobody.
+    SplitGrid g;
+    g.root_box = Aabb{{0, 0, 0}, {1, 1, 1}};
+    g.triangle_count = 1;
+    g.root = CellRef::make_inner(0);
+    g.nodes = {GridNode::make(0, 0.0f, 1.0f, 2, 0), GridNode::make(1, 0.0f, 1.0f, 2, 2),
+               GridNode::make(1, 0.0f, 1.0f, 2, 4)};
+    g.cells = {CellRef::make_inner(1), CellRef::make_inner(2), CellRef{}, CellRef{},
+               CellRef::make_leaf(0), CellRef{}};
+    g.triangle_refs = {TriangleRef::make(0, true)};
+    // As built (node 2 owns cells 4..5) the grid is valid: the leaf is reached through node 2.
+    EXPECT_NO_THROW(check_invariants(g));
+    g.nodes[2] = GridNode::make(1, 0.0f, 1.0f, 2, 2);
+    g.triangle_refs.clear();
+    g.cells[4] = CellRef{};
+    expect_refused(g, "also belongs to another node");
+}
+
 TEST(Validate, RefusesTreesDeeperThanTheTraversalStack)
 {
     // A chain of nodes with one cell each, one deeper than supported.

@@ -184,16 +184,23 @@ TEST(DegenerateInput, CoverageCheckFindsReferencesInLeavesOfAnyOrder)
         for (std::size_t k = 0; k < ids.size(); ++k)
             grid.triangle_refs[cell.first_ref() + k] = TriangleRef::make(ids[k], k + 1 == ids.size());
     };
-    for (const CellRef& cell : grid.cells) {
-        if (!cell.is_leaf()) continue;
+    // Every leaf, in the cell array or in a one-cell node's record.
+    std::vector<CellRef> leaves;
+    for (const GridNode& node : grid.nodes)
+        for (std::uint32_t i = 0; i < node.resolution(); ++i)
+            if (const CellRef cell = node_cell(grid, node, i); cell.is_leaf())
+                leaves.push_back(cell);
+    ASSERT_TRUE(std::ranges::any_of(grid.nodes, [](const GridNode& n) {
+        return n.resolution() == 1 && n.only_cell().is_leaf();
+    }));
+    for (const CellRef& cell : leaves) {
         std::vector<std::uint32_t> ids = leaf_triangles(grid, cell);
         ASSERT_TRUE(std::is_sorted(ids.begin(), ids.end()));
         std::reverse(ids.begin(), ids.end());
         store(cell, ids);
     }
     EXPECT_NO_THROW(check_coverage(grid, mesh.view()));
-    for (const CellRef& cell : grid.cells) {
-        if (!cell.is_leaf()) continue;
+    for (const CellRef& cell : leaves) {
         std::vector<std::uint32_t> ids = leaf_triangles(grid, cell);
         if (ids.size() < 3) continue;
         // The middle reference replaced by its neighbour: unsorted, one triangle missing.

@@ -46,9 +46,9 @@ inline constexpr std::size_t grid_stack_size = max_supported_depth + 1;
 /// one multiply by 1 / dt (a division that depends on the node's record only, so it runs
 /// beside the clip instead of after it), no correction loop; per cell: one crossing (a
 /// multiply and an add) and two compares; per non-empty cell, a prefetch of what the node's
-/// next cell leads to. Per random ray on the 871k-triangle dragon (`kernel-cost`, AVX2): 2,848
-/// instructions, 24.7 mispredicted branches, 23.0 L1 misses, of which the walk (node entries
-/// and cells) 1,916 / 20.0 / 11.4 and the batched triangle tests 204 / 1.3 / 6.8
+/// next cell leads to. Per random ray on the 871k-triangle dragon (`kernel-cost`, AVX2): 2,847
+/// instructions, 23.7 mispredicted branches, 23.0 L1 misses, of which the walk (node entries
+/// and cells) 1,915 / 19.6 / 11.4 and the batched triangle tests 204 / 1.3 / 6.8
 /// (docs/BENCH.md). A class rather than lambdas: GCC compiles lambdas without the instruction
 /// set of the target region they are written in.
 template <TriangleTest test, class Search>
@@ -154,14 +154,14 @@ private:
             search_.count_node();
             const GridNode node = grid_.nodes[index];
             const std::uint32_t n = node.resolution();
+            // An extreme ray (crossings near FLT_MAX) is clipped here as make_cursor clips it;
+            // its walk over the one cell would then keep the clipped interval.
             if (n != 1) return make_cursor(node, n0, n1, c);
-            // An extreme ray (crossings near FLT_MAX) keeps its interval, as make_cursor's
-            // walk over every cell would.
             const int axis = node.axis();
             if (ray_.parallel[axis]) {
                 const float o = ray_.origin[axis];
                 if (!(o >= node.lo && o <= node.hi)) return Entry::none;
-            } else if (float t_lo; !ray_.extreme && !clip_to_slab(node, axis, n0, n1, t_lo)) {
+            } else if (float t_lo; !clip_to_slab(node, axis, n0, n1, t_lo)) {
                 return Entry::none;
             }
             const CellRef cell = node.only_cell();
