@@ -328,6 +328,20 @@ private:
             } else if (first < last) {
                 all_known = false;
             }
+            // Two cells that both want their piece (most straddlers on the scans): both
+            // pieces in one pass over the polygon, where it applies.
+            if (clipped && last == first + 1 && wants_extents(first) && wants_extents(last)) {
+                std::array<Aabbd, 2> pieces;
+                std::array<bool, 2> found{};
+                if (polygon.adjacent_slab_bounds(split.axis, cell_boxes[first], cell_boxes[last],
+                                                 pieces, found)) {
+                    put(first, k,
+                        found[0] ? rounded_extent(pieces[0], extents[k].size) : empty_extent());
+                    put(last, k,
+                        found[1] ? rounded_extent(pieces[1], extents[k].size) : empty_extent());
+                    continue;
+                }
+            }
             for (std::uint32_t c = first; c <= last; ++c) {
                 if (!clipped || !wants_extents(c)) {
                     put(c, k, TriExtent{});

@@ -150,6 +150,53 @@ bool slab_bounds_on(const Polygon& polygon, const Aabbd& box, Aabbd& out) noexce
     return true;
 }
 
+// ClippedTriangle::adjacent_slab_bounds for a split axis known at compile time. With every
+// vertex in [below.lower, above.upper], slab_bounds_on's test of a vertex against a slab's
+// outer plane always passes and its crossings of that plane find none, so what is left for
+// each slab is the same sequence of extends, in the same order (which keeps the sign of a
+// zero the same too).
+template <int Axis>
+bool adjacent_slab_bounds_on(const Polygon& polygon, const Aabbd& below, const Aabbd& above,
+                             std::array<Aabbd, 2>& out, std::array<bool, 2>& found) noexcept
+{
+    const double lower = component<Axis>(below.lower);
+    const double upper = component<Axis>(above.upper);
+    const double below_top = component<Axis>(below.upper);
+    const double above_bottom = component<Axis>(above.lower);
+    for (int i = 0; i < polygon.count; ++i) {
+        const double x = component<Axis>(polygon.v[static_cast<std::size_t>(i)]);
+        if (!(x >= lower && x <= upper)) return false;
+    }
+    Aabbd pieces[2] = {{{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}},
+                       {{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}}};
+    bool any[2] = {false, false};
+    auto cross = [](const Vec3d& p, const Vec3d& q, double plane, Aabbd& piece, bool& hit) {
+        const double dp = component<Axis>(p) - plane;
+        const double dq = component<Axis>(q) - plane;
+        if ((dp >= 0.0) == (dq >= 0.0)) return;
+        extend(piece, edge_point<Axis>(p, q, dp, dq, plane));
+        hit = true;
+    };
+    for (int i = 0; i < polygon.count; ++i) {
+        const Vec3d& p = polygon.v[static_cast<std::size_t>(i)];
+        const Vec3d& q = polygon.v[static_cast<std::size_t>(i + 1)];
+        if (component<Axis>(p) <= below_top) {
+            extend(pieces[0], p);
+            any[0] = true;
+        }
+        cross(p, q, below_top, pieces[0], any[0]);
+        if (component<Axis>(p) >= above_bottom) {
+            extend(pieces[1], p);
+            any[1] = true;
+        }
+        cross(p, q, above_bottom, pieces[1], any[1]);
+    }
+    found = {any[0], any[1]};
+    if (any[0]) out[0] = clamped(pieces[0], below);
+    if (any[1]) out[1] = clamped(pieces[1], above);
+    return true;
+}
+
 }  // namespace
 
 bool ClippedTriangle::slab_bounds(int axis, const Aabbd& box, Aabbd& out) const noexcept
@@ -158,6 +205,18 @@ bool ClippedTriangle::slab_bounds(int axis, const Aabbd& box, Aabbd& out) const 
     case 0: return slab_bounds_on<0>(buffers_[result_], box, out);
     case 1: return slab_bounds_on<1>(buffers_[result_], box, out);
     default: return slab_bounds_on<2>(buffers_[result_], box, out);
+    }
+}
+
+bool ClippedTriangle::adjacent_slab_bounds(int axis, const Aabbd& below, const Aabbd& above,
+                                           std::array<Aabbd, 2>& out,
+                                           std::array<bool, 2>& found) const noexcept
+{
+    const Polygon& polygon = buffers_[result_];
+    switch (axis) {
+    case 0: return adjacent_slab_bounds_on<0>(polygon, below, above, out, found);
+    case 1: return adjacent_slab_bounds_on<1>(polygon, below, above, out, found);
+    default: return adjacent_slab_bounds_on<2>(polygon, below, above, out, found);
     }
 }
 

@@ -56,6 +56,15 @@ public:
     /// cut the polygon would give a clamped box, not the clipped one).
     bool slab_bounds(int axis, const Aabbd& box, Aabbd& out) const noexcept;
 
+    /// slab_bounds for two overlapping slabs at once, `below` and `above` on `axis` (two
+    /// neighbouring padded cells: below.lower <= above.lower <= below.upper <= above.upper):
+    /// when every vertex of the polygon lies in [below.lower, above.upper] on the axis, sets
+    /// found[i] and out[i] to what slab_bounds returns and writes for the i-th slab, bit for
+    /// bit, in one pass that crosses each edge with the two inner planes only (the outer ones
+    /// cannot cut it), and returns true; otherwise returns false and writes nothing.
+    bool adjacent_slab_bounds(int axis, const Aabbd& below, const Aabbd& above,
+                              std::array<Aabbd, 2>& out, std::array<bool, 2>& found) const noexcept;
+
     /// A triangle clipped by six planes has at most 3 + 6 vertices. Rounding can make a
     /// polygon slightly non-convex and a clip then add more; the count is capped at this
     /// after each edge, and the two spare places take the at most two points one edge adds.
