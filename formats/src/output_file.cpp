@@ -62,6 +62,12 @@ OutputFile::OutputFile(fs::path target) : target_(std::move(target))
     if (target_.empty() || !target_.has_filename()) throw_io(target_, "not a file name");
     std::error_code ec;
     if (fs::is_directory(target_, ec)) throw_io(target_, "is a folder, expected a file name");
+    // A device, pipe or socket would be replaced by the rename, not written to: with the
+    // rights to do so, `-o /dev/null` would swap the system's /dev/null for a regular file.
+    const fs::file_status status = fs::symlink_status(target_, ec);
+    if (fs::exists(status) && !fs::is_regular_file(status) && !fs::is_symlink(status))
+        throw_io(target_, "is not a regular file (a device, pipe or socket): the file is "
+                          "written by renaming a complete one into place, which would replace it");
     stale_removed_ = remove_stale_temporaries(target_, "tmp");
 
     // mkstemp would create the file with mode 0600 and ignore the umask; O_CREAT | O_EXCL

@@ -121,6 +121,22 @@ TEST(AtomicWrite, TargetThatIsAFolderIsAnIoErrorAndLeavesNoTemporary)
     EXPECT_TRUE(std::filesystem::is_directory(dir / "taken.sg"));
 }
 
+TEST(AtomicWrite, TargetThatIsAPipeIsAnIoErrorAndStaysAPipe)
+{
+    // As a device such as /dev/null would, a named pipe would be replaced by the rename.
+    test::ScratchDir dir;
+    ASSERT_EQ(::mkfifo((dir / "pipe.sg").c_str(), 0666), 0);
+    const std::string m = io_error_of([&] { write_sg_file(dir / "pipe.sg", some_contents(10)); });
+    EXPECT_EQ(m.rfind((dir / "pipe.sg").string() + ": is not a regular file", 0), 0u) << m;
+    EXPECT_EQ(dir.entries(), (std::vector<std::string>{"pipe.sg"}));
+    EXPECT_TRUE(std::filesystem::is_fifo(dir / "pipe.sg"));
+    // A symbolic link to a file is still replaced by the new file (the documented behaviour).
+    test::write_text(dir / "real.sg", "old");
+    std::filesystem::create_symlink("real.sg", dir / "link.sg");
+    EXPECT_NO_THROW(write_sg_file(dir / "link.sg", some_contents(10)));
+    EXPECT_TRUE(std::filesystem::is_regular_file(std::filesystem::symlink_status(dir / "link.sg")));
+}
+
 TEST(AtomicWrite, FailureInTheMiddleOfTheWriteKeepsTheOldFile)
 {
     // A file size limit makes write() fail part-way, as a full disk would. The old target

@@ -21,7 +21,8 @@ namespace sg {
 /// and registers its own for removal on an interrupt (CleanupEntry). commit() fills and
 /// flushes the temporary (fsync) and renames it over the target, then flushes the folder so
 /// the rename survives a power cut; if the target is a symbolic link, the link itself is
-/// replaced. Without commit() the destructor removes the temporary.
+/// replaced. Without commit() the destructor removes the temporary. A target that exists and
+/// is a folder, a device, a pipe or a socket is refused, since the rename would replace it.
 ///
 /// Every failure throws IoError "<target>: <reason>".
 class OutputFile {
