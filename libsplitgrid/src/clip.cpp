@@ -117,6 +117,19 @@ Aabbd ClippedTriangle::bounds(const Aabbd& box) const noexcept
 
 namespace {
 
+// Widens `piece` by the point of edge pq on the plane, where its ends lie on different
+// sides (the point clip_polygon would make), and sets `any`. A vertex on the plane is in the
+// slab and taken by the caller; an edge that ends on the plane adds that vertex again at most.
+template <int Axis>
+void add_crossing(const Vec3d& p, const Vec3d& q, double plane, Aabbd& piece, bool& any) noexcept
+{
+    const double dp = component<Axis>(p) - plane;
+    const double dq = component<Axis>(q) - plane;
+    if ((dp >= 0.0) == (dq >= 0.0)) return;
+    extend(piece, edge_point<Axis>(p, q, dp, dq, plane));
+    any = true;
+}
+
 // ClippedTriangle::slab_bounds for a split axis known at compile time.
 template <int Axis>
 bool slab_bounds_on(const Polygon& polygon, const Aabbd& box, Aabbd& out) noexcept
@@ -125,16 +138,6 @@ bool slab_bounds_on(const Polygon& polygon, const Aabbd& box, Aabbd& out) noexce
     const double upper = component<Axis>(box.upper);
     out = {{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}};
     bool any = false;
-    // The point of edge pq on the plane, where its ends lie on different sides (the point
-    // clip_polygon would make). A vertex on the plane is in the slab and taken below; an edge
-    // that ends on the plane adds that vertex again at most.
-    auto cross = [&](const Vec3d& p, const Vec3d& q, double plane) {
-        const double dp = component<Axis>(p) - plane;
-        const double dq = component<Axis>(q) - plane;
-        if ((dp >= 0.0) == (dq >= 0.0)) return;
-        extend(out, edge_point<Axis>(p, q, dp, dq, plane));
-        any = true;
-    };
     for (int i = 0; i < polygon.count; ++i) {
         const Vec3d& p = polygon.v[static_cast<std::size_t>(i)];
         const Vec3d& q = polygon.v[static_cast<std::size_t>(i + 1)];
@@ -142,8 +145,8 @@ bool slab_bounds_on(const Polygon& polygon, const Aabbd& box, Aabbd& out) noexce
             extend(out, p);
             any = true;
         }
-        cross(p, q, lower);
-        cross(p, q, upper);
+        add_crossing<Axis>(p, q, lower, out, any);
+        add_crossing<Axis>(p, q, upper, out, any);
     }
     if (!any) return false;
     out = clamped(out, box);
@@ -170,13 +173,6 @@ bool adjacent_slab_bounds_on(const Polygon& polygon, const Aabbd& below, const A
     Aabbd pieces[2] = {{{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}},
                        {{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}}};
     bool any[2] = {false, false};
-    auto cross = [](const Vec3d& p, const Vec3d& q, double plane, Aabbd& piece, bool& hit) {
-        const double dp = component<Axis>(p) - plane;
-        const double dq = component<Axis>(q) - plane;
-        if ((dp >= 0.0) == (dq >= 0.0)) return;
-        extend(piece, edge_point<Axis>(p, q, dp, dq, plane));
-        hit = true;
-    };
     for (int i = 0; i < polygon.count; ++i) {
         const Vec3d& p = polygon.v[static_cast<std::size_t>(i)];
         const Vec3d& q = polygon.v[static_cast<std::size_t>(i + 1)];
@@ -184,12 +180,12 @@ bool adjacent_slab_bounds_on(const Polygon& polygon, const Aabbd& below, const A
             extend(pieces[0], p);
             any[0] = true;
         }
-        cross(p, q, below_top, pieces[0], any[0]);
+        add_crossing<Axis>(p, q, below_top, pieces[0], any[0]);
         if (component<Axis>(p) >= above_bottom) {
             extend(pieces[1], p);
             any[1] = true;
         }
-        cross(p, q, above_bottom, pieces[1], any[1]);
+        add_crossing<Axis>(p, q, above_bottom, pieces[1], any[1]);
     }
     found = {any[0], any[1]};
     if (any[0]) out[0] = clamped(pieces[0], below);
