@@ -136,6 +136,10 @@ TEST(Validate, RefusesEachKindOfCorruption)
     g = f.grid;
     g.nodes.push_back(g.nodes[0]);  // unreachable
     expect_refused(g, "not reachable");
+
+    g = f.grid;
+    g.cells.push_back(CellRef{});  // owned by no node
+    expect_refused(g, "cells belong to no node");
 }
 
 TEST(Validate, RefusesTwoNodesSharingABlockOfCells)
