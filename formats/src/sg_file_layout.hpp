@@ -1,6 +1,6 @@
 #pragma once
 
-// On-disk records of the .sg format, version 3. docs/FORMAT.md describes the same layout for
+// On-disk records of the .sg format, version 4. docs/FORMAT.md describes the same layout for
 // readers in other languages; keep the two in step.
 //
 // The file is little-endian. The writer and reader copy these records to and from the byte
@@ -41,11 +41,11 @@ inline constexpr std::uint64_t sg_section_alignment = 8;
 ///
 ///   offset  size  field
 ///        0     8  magic                  sg_magic
-///        8     4  format_version         sg_format_version (2)
+///        8     4  format_version         sg_format_version (4)
 ///       12     4  endian_marker          0x01020304
 ///       16     4  header_bytes           sizeof(SgHeader) = 80
 ///       20     4  section_entry_bytes    sizeof(SgSectionEntry) = 32
-///       24     4  section_count          7 in version 3
+///       24     4  section_count          7 in version 4
 ///       28     4  header_crc32           CRC-32 of the header (this field read as 0)
 ///                                        followed by the section table
 ///       32     8  file_bytes             size of the whole file
@@ -259,7 +259,7 @@ static_assert(sizeof(TriangleRef) == 4 && std::is_trivially_copyable_v<TriangleR
                   std::has_unique_object_representations_v<TriangleRef>,
               "TriangleRef is stored as one uint32 (triangle id, bit 31 = last of its leaf)");
 
-/// The sections of a version-3 file, in file order.
+/// The sections of a version-4 file, in file order.
 enum class SgSection : std::size_t {
     config,
     name,

@@ -174,11 +174,14 @@ void SgReader::check_magic_and_version() const
             fail_at("invalid format version", offsetof(detail::SgHeader, format_version),
                     std::to_string(sg_format_version), "0");
         if (version == 1)
-            fail("format version 1 is no longer read (its cells are 8 bytes, version 3's are "
+            fail("format version 1 is no longer read (its cells are 8 bytes, version 4's are "
                  "4): build the file again with sg-build");
         if (version == 2)
             fail("format version 2 is no longer read (it keeps a one-cell node's cell in CELL, "
-                 "version 3 in the node's record): build the file again with sg-build");
+                 "version 4 in the node's record): build the file again with sg-build");
+        if (version == 3)
+            fail("format version 3 is no longer read (its inner cells do not say whether their "
+                 "child has one cell, version 4's do): build the file again with sg-build");
     }
 }
 

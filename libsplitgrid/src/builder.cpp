@@ -471,7 +471,7 @@ private:
         {
             const auto index = static_cast<std::uint32_t>(out.nodes.size());
             out.nodes.push_back(new_node(axis, lo, hi, resolution, out.cells));
-            link(CellRef::make_inner(index), out);
+            link(CellRef::make_inner(index, resolution), out);
             last_node = index;
             return index;
         }
@@ -823,7 +823,8 @@ private:
 // `ref_base` references.
 CellRef shifted(CellRef cell, std::uint32_t node_base, std::uint32_t ref_base)
 {
-    if (cell.is_inner()) return CellRef::make_inner(cell.child() + node_base);
+    if (cell.is_inner())
+        return CellRef::make_inner(cell.child() + node_base, cell.has_one_cell_child() ? 1 : 2);
     if (cell.is_leaf()) return CellRef::make_leaf(cell.first_ref() + ref_base);
     return cell;
 }
@@ -908,7 +909,7 @@ CellRef flatten(BuiltCell& cell, SplitGrid& grid)
     for (std::uint32_t c = 0; c < resolution; ++c)
         store_cell(grid.nodes, grid.cells, index, c, flatten(node.cells[c], grid));
     cell.node.reset();
-    return CellRef::make_inner(index);
+    return CellRef::make_inner(index, resolution);
 }
 
 }  // namespace

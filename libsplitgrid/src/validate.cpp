@@ -20,8 +20,9 @@ namespace {
 
 std::string node_name(std::uint32_t node) { return "node " + std::to_string(node); }
 
-// Checks one cell record. A leaf's references must lie in the array, end with a reference
-// marked last (the traversal reads up to it), and belong to no other leaf.
+// Checks one cell record. An inner cell's kind must match its child's resolution. A leaf's
+// references must lie in the array, end with a reference marked last (the traversal reads up
+// to it), and belong to no other leaf.
 void check_cell(const SplitGrid& grid, const CellRef& cell, const std::string& where,
                 std::vector<bool>& ref_seen)
 {
@@ -32,6 +33,12 @@ void check_cell(const SplitGrid& grid, const CellRef& cell, const std::string& w
         if (cell.child() >= grid.nodes.size())
             fail(where + ": child node " + std::to_string(cell.child()) + " out of range (" +
                  std::to_string(grid.nodes.size()) + " nodes)");
+        // The walk enters the child as the kind says, without looking at its record.
+        const std::uint32_t n = grid.nodes[cell.child()].resolution();
+        if (cell.has_one_cell_child() != (n == 1))
+            fail(where + ": the cell's kind says its child node " + std::to_string(cell.child()) +
+                 (cell.has_one_cell_child() ? " has one cell" : " has two or more cells") +
+                 ", but it has " + std::to_string(n));
         return;
     }
     const std::size_t size = grid.triangle_refs.size();

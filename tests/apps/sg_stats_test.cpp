@@ -262,7 +262,7 @@ TEST(SgStats, TextReportShowsEveryPart)
     const SgContents contents = read_sg_file(file);
     const GridStats stats = compute_stats(contents.grid);
     for (const std::string& text :
-         {std::string("format version 3"), std::string("random_scene"),
+         {std::string("format version 4"), std::string("random_scene"),
           std::string("resolution per depth"), std::string("mean leaf depth"),
           std::string("duplication factor"), std::string("empty cell fraction"),
           std::string("triangles/leaf"), std::string("bytes/triangle"),

@@ -247,7 +247,7 @@ TEST_F(SgHostile, EveryFlippedByteWithoutChecksumsNeverCrashes)
 
 TEST_F(SgHostile, EveryHeaderByteChangeIsRefusedWithoutChecksums)
 {
-    // Every header byte but the CRC itself has exactly one valid value in version 3.
+    // Every header byte but the CRC itself has exactly one valid value in version 4.
     for (std::size_t i = 0; i < 80; ++i) {
         if (i >= 28 && i < 32) continue;
         std::vector<std::uint8_t> bad = bytes_;
@@ -260,22 +260,26 @@ TEST_F(SgHostile, EveryHeaderByteChangeIsRefusedWithoutChecksums)
 TEST_F(SgHostile, NewerVersionIsRefusedNamingTheVersion)
 {
     std::vector<std::uint8_t> newer = bytes_;
-    store_le<std::uint32_t>(newer, 8, 4);
-    EXPECT_EQ(refusal(newer, "new.sg"), "new.sg: format version 4 is newer than this reader's 3");
+    store_le<std::uint32_t>(newer, 8, 5);
+    EXPECT_EQ(refusal(newer, "new.sg"), "new.sg: format version 5 is newer than this reader's 4");
     store_le<std::uint32_t>(newer, 8, 4000000000u);
     EXPECT_EQ(refusal(newer, "new.sg"),
-              "new.sg: format version 4000000000 is newer than this reader's 3");
-    // Version 1 stored 8-byte cells, version 2 a one-cell node's cell in CELL: refused with a
-    // way out.
+              "new.sg: format version 4000000000 is newer than this reader's 4");
+    // Version 1 stored 8-byte cells, version 2 a one-cell node's cell in CELL, version 3 one
+    // kind of inner cell: refused with a way out.
     std::vector<std::uint8_t> older = bytes_;
     store_le<std::uint32_t>(older, 8, 1);
     EXPECT_EQ(refusal(older, "old.sg"),
-              "old.sg: format version 1 is no longer read (its cells are 8 bytes, version 3's "
+              "old.sg: format version 1 is no longer read (its cells are 8 bytes, version 4's "
               "are 4): build the file again with sg-build");
     store_le<std::uint32_t>(older, 8, 2);
     EXPECT_EQ(refusal(older, "old.sg"),
               "old.sg: format version 2 is no longer read (it keeps a one-cell node's cell in "
-              "CELL, version 3 in the node's record): build the file again with sg-build");
+              "CELL, version 4 in the node's record): build the file again with sg-build");
+    store_le<std::uint32_t>(older, 8, 3);
+    EXPECT_EQ(refusal(older, "old.sg"),
+              "old.sg: format version 3 is no longer read (its inner cells do not say whether "
+              "their child has one cell, version 4's do): build the file again with sg-build");
 
     test::ScratchDir dir;
     store_le<std::uint32_t>(newer, 8, 7);
@@ -285,7 +289,7 @@ TEST_F(SgHostile, NewerVersionIsRefusedNamingTheVersion)
         FAIL() << "accepted";
     } catch (const FormatError& e) {
         EXPECT_EQ(std::string(e.what()),
-                  (dir / "v7.sg").string() + ": format version 7 is newer than this reader's 3");
+                  (dir / "v7.sg").string() + ": format version 7 is newer than this reader's 4");
     }
     EXPECT_THROW((void)read_sg_info(dir / "v7.sg"), FormatError);
 }
@@ -449,7 +453,7 @@ TEST_F(SgHostileIndex, ChildNodeOutOfRange)
     (void)refusal_of([](SgContents& c) {
         for (CellRef& cell : c.grid.cells)
             if (cell.is_inner()) {
-                cell = CellRef::make_inner(static_cast<std::uint32_t>(c.grid.nodes.size()));
+                cell = CellRef::make_inner(static_cast<std::uint32_t>(c.grid.nodes.size()), 2);
                 return;
             }
         FAIL() << "no inner cell";
@@ -458,14 +462,14 @@ TEST_F(SgHostileIndex, ChildNodeOutOfRange)
 
 TEST_F(SgHostileIndex, OneCellNodeHoldingABadCell)
 {
-    // A one-cell node keeps its cell in its NODE record: a child past the array, a kind 3 word.
-    for (const std::uint32_t bad_bits : {0u, 3u}) {
+    // A one-cell node keeps its cell in its NODE record: a child past the array (either inner
+    // kind), a word of the empty kind with an index.
+    for (const std::uint32_t bad : {2u, 3u, 0u}) {
         (void)refusal_of([&](SgContents& c) {
             for (GridNode& node : c.grid.nodes)
                 if (node.resolution() == 1) {
-                    const CellRef child =
-                        CellRef::make_inner(static_cast<std::uint32_t>(c.grid.nodes.size()));
-                    node.set_only_cell(CellRef::from_raw(child.raw_bits() | bad_bits));
+                    const auto past = static_cast<std::uint32_t>(c.grid.nodes.size());
+                    node.set_only_cell(CellRef::from_raw((past << 2) | bad));
                     return;
                 }
             FAIL() << "no one-cell node";
@@ -478,7 +482,7 @@ TEST_F(SgHostileIndex, CellPointingBackToTheRootMakesACycle)
     (void)refusal_of([](SgContents& c) {
         for (CellRef& cell : c.grid.cells)
             if (cell.is_inner()) {
-                cell = CellRef::make_inner(0);
+                cell = CellRef::make_inner(0, c.grid.nodes[0].resolution());
                 return;
             }
     });
@@ -534,7 +538,7 @@ TEST_F(SgHostileIndex, NanAndInvertedPlanesAndBadAxis)
 TEST_F(SgHostileIndex, RootOutOfRange)
 {
     (void)refusal_of([](SgContents& c) {
-        c.grid.root = CellRef::make_inner(static_cast<std::uint32_t>(c.grid.nodes.size()));
+        c.grid.root = CellRef::make_inner(static_cast<std::uint32_t>(c.grid.nodes.size()), 2);
     });
 }
 

@@ -162,7 +162,7 @@ TEST(SgFile, LayoutMatchesFormatDocument)
 
     const std::array<std::uint8_t, 8> magic{0x89, 'S', 'G', 'F', '\r', '\n', 0x1A, '\n'};
     EXPECT_TRUE(std::equal(magic.begin(), magic.end(), f.begin()));
-    EXPECT_EQ(load_le<std::uint32_t>(f, 8), 3u) << "format version";
+    EXPECT_EQ(load_le<std::uint32_t>(f, 8), 4u) << "format version";
     EXPECT_EQ((std::array<std::uint8_t, 4>{f[12], f[13], f[14], f[15]}),
               (std::array<std::uint8_t, 4>{0x04, 0x03, 0x02, 0x01}))
         << "endianness marker 0x01020304 stored little-endian";
@@ -233,7 +233,10 @@ TEST(SgFile, LayoutMatchesFormatDocument)
     EXPECT_EQ(load_le<float>(f, conf + 64), c.grid.root_box.upper.x);
     EXPECT_EQ(load_le<float>(f, conf + 72), c.grid.root_box.upper.z);
     EXPECT_EQ(load_le<std::uint32_t>(f, conf + 76) >> 2, c.grid.root.index());
-    EXPECT_EQ(load_le<std::uint32_t>(f, conf + 76) & 3u, 2u) << "the root is inner";
+    ASSERT_TRUE(c.grid.root.is_inner());
+    EXPECT_EQ(load_le<std::uint32_t>(f, conf + 76) & 3u,
+              c.grid.nodes[c.grid.root.child()].resolution() == 1 ? 3u : 2u)
+        << "the root is inner, of the kind its child's resolution gives";
     EXPECT_EQ(load_le<std::uint32_t>(f, conf + 80), 0u) << "reserved";
     EXPECT_EQ(load_le<std::uint32_t>(f, conf + 84), 7u)
         << "build_flags: bounding planes and clipping off, bounding nodes on";
@@ -257,8 +260,10 @@ TEST(SgFile, LayoutMatchesFormatDocument)
     const CellRef& cell = c.grid.cells.back();
     const std::size_t k = section_offset(5) + 4 * (c.grid.cells.size() - 1);
     EXPECT_EQ(load_le<std::uint32_t>(f, k) >> 2, cell.index());
+    const std::uint32_t inner_kind =
+        cell.is_inner() && c.grid.nodes[cell.child()].resolution() == 1 ? 3u : 2u;
     EXPECT_EQ(load_le<std::uint32_t>(f, k) & 3u,
-              cell.is_empty() ? 0u : (cell.is_leaf() ? 1u : 2u));
+              cell.is_empty() ? 0u : (cell.is_leaf() ? 1u : inner_kind));
     const TriangleRef ref = c.grid.triangle_refs[5];
     EXPECT_EQ(load_le<std::uint32_t>(f, section_offset(6) + 4 * 5),
               ref.triangle() | (ref.is_last() ? 0x80000000u : 0u));
@@ -274,7 +279,7 @@ TEST(SgFile, InfoReadsTheHeaderAndTable)
     const SgContents c = random_contents(9, 150);
     write_sg_file(dir / "x.sg", c);
     const SgFileInfo info = read_sg_info(dir / "x.sg");
-    EXPECT_EQ(info.format_version, 3u);
+    EXPECT_EQ(info.format_version, 4u);
     EXPECT_EQ(info.file_bytes, std::filesystem::file_size(dir / "x.sg"));
     ASSERT_EQ(info.sections.size(), 7u);
     EXPECT_EQ(info.sections[2].name, "VERT");

@@ -1,5 +1,8 @@
 #include "splitgrid/validate.hpp"
 
+#include <algorithm>
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "splitgrid/builder.hpp"
@@ -48,11 +51,11 @@ TEST(Validate, RefusesEachKindOfCorruption)
     }();
 
     SplitGrid g = f.grid;
-    g.cells[inner] = CellRef::make_inner(static_cast<std::uint32_t>(g.nodes.size()));
+    g.cells[inner] = CellRef::make_inner(static_cast<std::uint32_t>(g.nodes.size()), 2);
     expect_refused(g, "out of range");
 
-    g = f.grid;
-    g.cells[inner] = CellRef::make_inner(0);  // back to the root: a cycle
+    g = f.grid;  // back to the root: a cycle
+    g.cells[inner] = CellRef::make_inner(0, g.nodes[0].resolution());
     expect_refused(g, "more than one cell");
 
     g = f.grid;
@@ -79,13 +82,24 @@ TEST(Validate, RefusesEachKindOfCorruption)
     g.triangle_refs.back() = TriangleRef::make(g.triangle_refs.back().triangle(), false);
     expect_refused(g, "without one marked last");
 
-    // Words that are no cell at all: kind 3, or an empty kind with an index.
-    g = f.grid;
-    g.cells[leaf] = CellRef::from_raw(g.cells[leaf].raw_bits() | 3u);
-    expect_refused(g, "is not a valid cell");
+    // A word that is no cell at all: an empty kind with an index.
     g = f.grid;  // (the first leaf's index is 0, and a zero word is a valid empty cell)
     g.cells[other_leaf] = CellRef::from_raw(g.cells[other_leaf].raw_bits() & ~3u);
     expect_refused(g, "is not a valid cell");
+
+    // An inner cell whose kind disagrees with its child's resolution (the walk would enter the
+    // child the wrong way), both ways round.
+    for (const bool one_cell_child : {true, false}) {
+        g = f.grid;
+        const auto cell = std::ranges::find_if(g.cells, [&](CellRef c) {
+            return c.is_inner() && (g.nodes[c.child()].resolution() == 1) == one_cell_child;
+        });
+        ASSERT_NE(cell, g.cells.end());
+        *cell = CellRef::make_inner(cell->child(), one_cell_child ? 2 : 1);
+        expect_refused(g, one_cell_child ? "says its child node " + std::to_string(cell->child()) +
+                                               " has two or more cells, but it has 1"
+                                         : "has one cell, but it has");
+    }
 
     g = f.grid;
     g.nodes[1] = GridNode::from_raw(g.nodes[1].lo, g.nodes[1].hi, g.nodes[1].cells_bits(),
@@ -120,13 +134,14 @@ TEST(Validate, RefusesEachKindOfCorruption)
     }();
     ASSERT_EQ(f.grid.nodes[single].resolution(), 1u);
     g = f.grid;
-    g.nodes[single].set_only_cell(CellRef::make_inner(static_cast<std::uint32_t>(g.nodes.size())));
+    g.nodes[single].set_only_cell(
+        CellRef::make_inner(static_cast<std::uint32_t>(g.nodes.size()), 2));
     expect_refused(g, "out of range");
     g = f.grid;
-    g.nodes[single].set_only_cell(CellRef::make_inner(0));
+    g.nodes[single].set_only_cell(CellRef::make_inner(0, g.nodes[0].resolution()));
     expect_refused(g, "more than one cell");
     g = f.grid;
-    g.nodes[single].set_only_cell(CellRef::from_raw(g.nodes[single].cells_bits() | 3u));
+    g.nodes[single].set_only_cell(CellRef::from_raw(g.nodes[single].cells_bits() & ~3u));
     expect_refused(g, "is not a valid cell");
     g = f.grid;
     g.nodes[single].set_only_cell(
@@ -149,10 +164,10 @@ TEST(Validate, RefusesTwoNodesSharingABlockOfCells)
     SplitGrid g;
     g.root_box = Aabb{{0, 0, 0}, {1, 1, 1}};
     g.triangle_count = 1;
-    g.root = CellRef::make_inner(0);
+    g.root = CellRef::make_inner(0, 2);
     g.nodes = {GridNode::make(0, 0.0f, 1.0f, 2, 0), GridNode::make(1, 0.0f, 1.0f, 2, 2),
                GridNode::make(1, 0.0f, 1.0f, 2, 4)};
-    g.cells = {CellRef::make_inner(1), CellRef::make_inner(2), CellRef{}, CellRef{},
+    g.cells = {CellRef::make_inner(1, 2), CellRef::make_inner(2, 2), CellRef{}, CellRef{},
                CellRef::make_leaf(0), CellRef{}};
     g.triangle_refs = {TriangleRef::make(0, true)};
     // As built (node 2 owns cells 4..5) the grid is valid: the leaf is reached through node 2.
@@ -169,12 +184,12 @@ TEST(Validate, RefusesTreesDeeperThanTheTraversalStack)
     SplitGrid g;
     g.root_box = Aabb{{0, 0, 0}, {1, 1, 1}};
     g.triangle_count = 1;
-    g.root = CellRef::make_inner(0);
+    g.root = CellRef::make_inner(0, 1);
     for (std::uint32_t d = 0; d <= max_supported_depth + 1; ++d) {
         g.nodes.push_back(GridNode::make_one_cell(0, 0.0f, 1.0f,
                                                   d == max_supported_depth + 1
                                                       ? CellRef::make_leaf(0)
-                                                      : CellRef::make_inner(d + 1)));
+                                                      : CellRef::make_inner(d + 1, 1)));
     }
     g.triangle_refs = {TriangleRef::make(0, true)};
     expect_refused(g, "deeper than");

@@ -359,14 +359,14 @@ TEST_F(SgDamage, ValidChecksumsWithBadIndicesCyclesAndNanPlanesStayWithinTheMemo
     forged[1].grid.triangle_refs.back() = TriangleRef::make(contents_.grid.triangle_count, true);
     for (CellRef& cell : forged[2].grid.cells)
         if (cell.is_inner()) {
-            cell = CellRef::make_inner(0);  // back to the root: a cycle
+            cell = CellRef::make_inner(0, contents_.grid.nodes[0].resolution());  // a cycle
             break;
         }
     const GridNode& n = contents_.grid.nodes[1];
     forged[3].grid.nodes[1] = GridNode::from_raw(std::numeric_limits<float>::quiet_NaN(), n.hi,
                                                  n.cells_bits(), n.axis_res_bits());
     forged[4].grid.root =
-        CellRef::make_inner(static_cast<std::uint32_t>(contents_.grid.nodes.size()));
+        CellRef::make_inner(static_cast<std::uint32_t>(contents_.grid.nodes.size()), 2);
     for (std::size_t k = 0; k < forged.size(); ++k) {
         const std::vector<std::uint8_t> bytes = encode_sg(forged[k]);
         const Refusal r = try_read(bytes, {});

@@ -217,12 +217,12 @@ TEST(Termination, RaysThroughTheDeepestAcceptedChainReachItsLeaf)
     SplitGrid g;
     g.root_box = Aabb{{0, 0, 0}, {1, 1, 1}};
     g.triangle_count = 1;
-    g.root = CellRef::make_inner(0);
+    g.root = CellRef::make_inner(0, 1);
     for (std::uint32_t d = 0; d <= max_supported_depth; ++d) {
         g.nodes.push_back(GridNode::make_one_cell(static_cast<int>(d % 3), 0.0f, 1.0f,
                                                   d == max_supported_depth
                                                       ? CellRef::make_leaf(0)
-                                                      : CellRef::make_inner(d + 1)));
+                                                      : CellRef::make_inner(d + 1, 1)));
     }
     g.triangle_refs = {TriangleRef::make(0, true)};
     Mesh mesh;

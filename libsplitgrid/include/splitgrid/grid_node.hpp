@@ -21,7 +21,8 @@ inline constexpr std::uint32_t max_cell_index = (1u << 30) - 1u;
 /// One cell of a node (or the root cell of the whole structure).
 ///
 /// Layout (4 bytes, 4-byte aligned), one uint32 word:
-///   bits 0-1   kind: 0 = empty, 1 = leaf, 2 = inner (3 is invalid)
+///   bits 0-1   kind: 0 = empty, 1 = leaf, 2 = inner with a child of two or more cells,
+///              3 = inner with a one-cell child (a bounding node)
 ///   bits 2-31  index: Leaf: the first triangle reference in SplitGrid::triangle_refs;
 ///              Inner: the child node in SplitGrid::nodes; Empty: 0
 /// A leaf's references run from its first one to the first reference that has its last
@@ -29,6 +30,9 @@ inline constexpr std::uint32_t max_cell_index = (1u << 30) - 1u;
 /// this one keeps a leaf's references contiguous, so a leaf costs one 4-byte read plus its
 /// references, and makes a node's cells half the size of an (index, count) pair: on the
 /// Stanford bunny the cells went from 13.0 to 6.5 bytes per triangle.
+/// The two inner kinds tell the walk which way a child node is entered (docs/SPLIT_GRID.md,
+/// "Traversal") from the word it already holds, before the child's record arrives from memory
+/// (docs/BENCH.md).
 class CellRef {
 public:
     [[nodiscard]] static constexpr CellRef make_empty() noexcept { return {}; }
@@ -39,12 +43,14 @@ public:
             throw ConfigError("CellRef: leaf reference index must be below 2^30");
         return CellRef((first_ref << 2) | leaf_tag);
     }
-    /// Throws ConfigError if child_node is above max_cell_index.
-    [[nodiscard]] static CellRef make_inner(std::uint32_t child_node)
+    /// An inner cell refined by node `child_node` of `child_resolution` cells. Throws
+    /// ConfigError if child_node is above max_cell_index.
+    [[nodiscard]] static CellRef make_inner(std::uint32_t child_node,
+                                            std::uint32_t child_resolution)
     {
         if (child_node > max_cell_index)
             throw ConfigError("CellRef: child node index must be below 2^30");
-        return CellRef((child_node << 2) | inner_tag);
+        return CellRef((child_node << 2) | (child_resolution == 1 ? inner_one_tag : inner_tag));
     }
     /// Rebuilds a record from its raw word without checks (file reader; check afterwards
     /// with check_invariants).
@@ -57,11 +63,18 @@ public:
     {
         return is_leaf() ? CellKind::Leaf : (is_inner() ? CellKind::Inner : CellKind::Empty);
     }
-    /// True for a valid empty cell (word 0). A word with kind bits 3, or an empty kind with
-    /// a non-zero index, is neither empty, leaf nor inner: has_valid_kind() is false.
+    /// True for a valid empty cell (word 0). A word with an empty kind and a non-zero index
+    /// is neither empty, leaf nor inner: has_valid_kind() is false.
     [[nodiscard]] constexpr bool is_empty() const noexcept { return bits_ == 0; }
     [[nodiscard]] constexpr bool is_leaf() const noexcept { return (bits_ & 3u) == leaf_tag; }
-    [[nodiscard]] constexpr bool is_inner() const noexcept { return (bits_ & 3u) == inner_tag; }
+    /// Either inner kind.
+    [[nodiscard]] constexpr bool is_inner() const noexcept { return (bits_ & inner_tag) != 0; }
+    /// Inner, and the child is a one-cell node (check_invariants checks that the kind matches
+    /// the child's resolution).
+    [[nodiscard]] constexpr bool has_one_cell_child() const noexcept
+    {
+        return (bits_ & 3u) == inner_one_tag;
+    }
     [[nodiscard]] constexpr bool has_valid_kind() const noexcept
     {
         return is_empty() || is_leaf() || is_inner();
@@ -80,6 +93,7 @@ public:
 private:
     static constexpr std::uint32_t leaf_tag = 1u;
     static constexpr std::uint32_t inner_tag = 2u;
+    static constexpr std::uint32_t inner_one_tag = 3u;
     explicit constexpr CellRef(std::uint32_t bits) : bits_(bits) {}
     std::uint32_t bits_ = 0;
 };

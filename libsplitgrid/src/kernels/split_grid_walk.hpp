@@ -46,9 +46,9 @@ inline constexpr std::size_t grid_stack_size = max_supported_depth + 1;
 /// one multiply by 1 / dt (a division that depends on the node's record only, so it runs
 /// beside the clip instead of after it), no correction loop; per cell: one crossing (a
 /// multiply and an add) and two compares; per non-empty cell, a prefetch of what the node's
-/// next cell leads to. Per random ray on the 871k-triangle dragon (`kernel-cost`, AVX2): 2,847
-/// instructions, 23.7 mispredicted branches, 23.0 L1 misses, of which the walk (node entries
-/// and cells) 1,915 / 19.6 / 11.4 and the batched triangle tests 204 / 1.3 / 6.8
+/// next cell leads to. Per random ray on the 871k-triangle dragon (`kernel-cost`, AVX2): 2,770
+/// instructions, 22.5 mispredicted branches, 22.7 L1 misses, of which the walk (node entries
+/// and cells) 1,843 / 19.2 / 11.3 and the batched triangle tests 201 / 1.3 / 6.7
 /// (docs/BENCH.md). A class rather than lambdas: GCC compiles lambdas without the instruction
 /// set of the target region they are written in.
 template <TriangleTest test, class Search>
@@ -75,7 +75,7 @@ public:
         // one cell's index to the next cell's load.)
         const CellRef* const cells = grid_.cells.data();
         GridCursor c{};
-        Entry entry = enter_node(grid_.root.child(), t0, t1, c);
+        Entry entry = enter_node(grid_.root, t0, t1, c);
         for (;;) {
             if (entry == Entry::done) return;
             // Cells are in ray order: once one starts past the closest hit so far (or past the
@@ -113,7 +113,7 @@ public:
                 if (sp_ >= grid_stack_size) return;
                 stack_[sp_++] = c;
             }
-            entry = enter_node(cell.child(), c0, c1, c);
+            entry = enter_node(cell, c0, c1, c);
         }
     }
 
@@ -143,20 +143,20 @@ private:
                                       refs + grid_.triangle_refs.size());
     }
 
-    // Clips [n0, n1] to the node's slab and sets `c` to a cursor at the first cell the ray may
-    // be in. A one-cell node (a bounding node on one axis) makes no cursor: its cell, kept in
-    // its record, is entered at once over the clipped interval, and a chain of them is one
-    // loop. Always inlined, so that `c` stays in registers.
-    [[gnu::always_inline]] Entry enter_node(std::uint32_t index, float n0, float n1,
+    // Enters the child of the inner cell `inner`: clips [n0, n1] to the node's slab and sets
+    // `c` to a cursor at the first cell the ray may be in. A one-cell node (a bounding node on
+    // one axis) makes no cursor: its cell, kept in its record, is entered at once over the
+    // clipped interval, and a chain of them is one loop. Which of the two a child is, the
+    // cell's kind says, so the branch does not wait for the child's record to arrive. Always
+    // inlined, so that `c` stays in registers.
+    [[gnu::always_inline]] Entry enter_node(CellRef inner, float n0, float n1,
                                             GridCursor& c) noexcept
     {
-        for (;;) {
+        while (inner.has_one_cell_child()) {
             search_.count_node();
-            const GridNode node = grid_.nodes[index];
-            const std::uint32_t n = node.resolution();
+            const GridNode node = grid_.nodes[inner.child()];
             // An extreme ray (crossings near FLT_MAX) is clipped here as make_cursor clips it;
             // its walk over the one cell would then keep the clipped interval.
-            if (n != 1) return make_cursor(node, n0, n1, c);
             const int axis = node.axis();
             if (ray_.parallel[axis]) {
                 const float o = ray_.origin[axis];
@@ -169,8 +169,10 @@ private:
             if (cell.is_leaf())
                 return test_leaf_cell(cell) && search_.done() ? Entry::done : Entry::none;
             if (!cell.is_inner()) return Entry::none;
-            index = cell.child();
+            inner = cell;
         }
+        search_.count_node();
+        return make_cursor(grid_.nodes[inner.child()], n0, n1, c);
     }
 
     // Clips [n0, n1] to the node's slab widened by the axis's crossing allowance; false when
