@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -11,6 +12,17 @@ namespace {
 
 constexpr int max_polygon_vertices = ClippedTriangle::max_vertices;
 using Polygon = ClippedTriangle::Polygon;
+
+// x and y of a point or bound as one pair of lanes (GCC's and Clang's vector extension).
+using Pair = double __attribute__((vector_size(16)));
+static_assert(sizeof(Vec3d) == 3 * sizeof(double), "Vec3d's x and y are loaded as one Pair");
+
+[[gnu::always_inline]] inline Pair xy_of(const Vec3d& p) noexcept
+{
+    Pair xy;
+    std::memcpy(&xy, &p.x, sizeof xy);
+    return xy;
+}
 
 // The point of edge pq on the plane p[Axis] = plane, from the signed distances dp and dq of
 // its ends (on different sides), placed on the plane exactly so that later clips see the
@@ -85,15 +97,32 @@ bool ClippedTriangle::clip(Vec3d a, Vec3d b, Vec3d c, const Aabbd& box) noexcept
 
 namespace {
 
-// Widens `out` (lower > upper when nothing is in it yet) by point p. Spelled out per
-// component: Vec3d's operator[] chooses the component by a branch.
-inline void extend(Aabbd& out, const Vec3d& p) noexcept
-{
-    out.lower = {std::min(out.lower.x, p.x), std::min(out.lower.y, p.y), std::min(out.lower.z, p.z)};
-    out.upper = {std::max(out.upper.x, p.x), std::max(out.upper.y, p.y), std::max(out.upper.z, p.z)};
-}
-
 constexpr double infinity = std::numeric_limits<double>::infinity();
+
+// The box of the points added so far (lower > upper while there are none), x and y as a pair:
+// a point costs one min and one max on the pair and one of each on z instead of three each
+// (docs/BENCH.md). Lane by lane `a < b ? a : b` is what std::min(b, a) returns, also for zeros
+// of either sign and NaNs (GCC compiles it to minpd), so the box is the one per-component
+// std::min and std::max give.
+struct Widening {
+    Pair lower_xy = {infinity, infinity};
+    Pair upper_xy = {-infinity, -infinity};
+    double lower_z = infinity;
+    double upper_z = -infinity;
+
+    [[gnu::always_inline]] void add(const Vec3d& p) noexcept
+    {
+        const Pair xy = xy_of(p);
+        lower_xy = xy < lower_xy ? xy : lower_xy;  // std::min(lower, p)
+        upper_xy = upper_xy < xy ? xy : upper_xy;  // std::max(upper, p)
+        lower_z = std::min(lower_z, p.z);
+        upper_z = std::max(upper_z, p.z);
+    }
+    [[nodiscard]] Aabbd box() const noexcept
+    {
+        return {{lower_xy[0], lower_xy[1], lower_z}, {upper_xy[0], upper_xy[1], upper_z}};
+    }
+};
 
 inline Vec3d clamped(const Vec3d& p, const Aabbd& box) noexcept
 {
@@ -109,10 +138,10 @@ inline Aabbd clamped(const Aabbd& b, const Aabbd& box) noexcept
 
 Aabbd ClippedTriangle::bounds(const Aabbd& box) const noexcept
 {
-    Aabbd out{{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}};
+    Widening out;
     const Polygon& polygon = buffers_[result_];
-    for (int i = 0; i < polygon.count; ++i) extend(out, polygon.v[static_cast<std::size_t>(i)]);
-    return clamped(out, box);
+    for (int i = 0; i < polygon.count; ++i) out.add(polygon.v[static_cast<std::size_t>(i)]);
+    return clamped(out.box(), box);
 }
 
 namespace {
@@ -121,12 +150,13 @@ namespace {
 // sides (the point clip_polygon would make), and sets `any`. A vertex on the plane is in the
 // slab and taken by the caller; an edge that ends on the plane adds that vertex again at most.
 template <int Axis>
-void add_crossing(const Vec3d& p, const Vec3d& q, double plane, Aabbd& piece, bool& any) noexcept
+[[gnu::always_inline]] inline void add_crossing(const Vec3d& p, const Vec3d& q, double plane,
+                                                Widening& piece, bool& any) noexcept
 {
     const double dp = component<Axis>(p) - plane;
     const double dq = component<Axis>(q) - plane;
     if ((dp >= 0.0) == (dq >= 0.0)) return;
-    extend(piece, edge_point<Axis>(p, q, dp, dq, plane));
+    piece.add(edge_point<Axis>(p, q, dp, dq, plane));
     any = true;
 }
 
@@ -136,27 +166,27 @@ bool slab_bounds_on(const Polygon& polygon, const Aabbd& box, Aabbd& out) noexce
 {
     const double lower = component<Axis>(box.lower);
     const double upper = component<Axis>(box.upper);
-    out = {{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}};
+    Widening piece;
     bool any = false;
     for (int i = 0; i < polygon.count; ++i) {
         const Vec3d& p = polygon.v[static_cast<std::size_t>(i)];
         const Vec3d& q = polygon.v[static_cast<std::size_t>(i + 1)];
         if (component<Axis>(p) >= lower && component<Axis>(p) <= upper) {
-            extend(out, p);
+            piece.add(p);
             any = true;
         }
-        add_crossing<Axis>(p, q, lower, out, any);
-        add_crossing<Axis>(p, q, upper, out, any);
+        add_crossing<Axis>(p, q, lower, piece, any);
+        add_crossing<Axis>(p, q, upper, piece, any);
     }
     if (!any) return false;
-    out = clamped(out, box);
+    out = clamped(piece.box(), box);
     return true;
 }
 
 // ClippedTriangle::adjacent_slab_bounds for a split axis known at compile time. With every
 // vertex in [below.lower, above.upper], slab_bounds_on's test of a vertex against a slab's
 // outer plane always passes and its crossings of that plane find none, so what is left for
-// each slab is the same sequence of extends, in the same order (which keeps the sign of a
+// each slab is the same sequence of points added, in the same order (which keeps the sign of a
 // zero the same too).
 template <int Axis>
 bool adjacent_slab_bounds_on(const Polygon& polygon, const Aabbd& below, const Aabbd& above,
@@ -170,26 +200,25 @@ bool adjacent_slab_bounds_on(const Polygon& polygon, const Aabbd& below, const A
         const double x = component<Axis>(polygon.v[static_cast<std::size_t>(i)]);
         if (!(x >= lower && x <= upper)) return false;
     }
-    Aabbd pieces[2] = {{{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}},
-                       {{infinity, infinity, infinity}, {-infinity, -infinity, -infinity}}};
+    Widening pieces[2];
     bool any[2] = {false, false};
     for (int i = 0; i < polygon.count; ++i) {
         const Vec3d& p = polygon.v[static_cast<std::size_t>(i)];
         const Vec3d& q = polygon.v[static_cast<std::size_t>(i + 1)];
         if (component<Axis>(p) <= below_top) {
-            extend(pieces[0], p);
+            pieces[0].add(p);
             any[0] = true;
         }
         add_crossing<Axis>(p, q, below_top, pieces[0], any[0]);
         if (component<Axis>(p) >= above_bottom) {
-            extend(pieces[1], p);
+            pieces[1].add(p);
             any[1] = true;
         }
         add_crossing<Axis>(p, q, above_bottom, pieces[1], any[1]);
     }
     found = {any[0], any[1]};
-    if (any[0]) out[0] = clamped(pieces[0], below);
-    if (any[1]) out[1] = clamped(pieces[1], above);
+    if (any[0]) out[0] = clamped(pieces[0].box(), below);
+    if (any[1]) out[1] = clamped(pieces[1].box(), above);
     return true;
 }
 
