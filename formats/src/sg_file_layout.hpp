@@ -242,7 +242,8 @@ static_assert(sizeof(SgNodeRecord) == 2 * 4 + 2 * 4 && std::is_trivially_copyabl
               "SgNodeRecord must be 16 bytes without padding (grid_node.hpp layout)");
 
 /// One cell (4 bytes), the CellRef word of grid_node.hpp: kind in bits 0-1 (0 empty, 1 leaf,
-/// 2 inner), index in bits 2-31. Version 1 stored 8 bytes (index, count).
+/// 2 inner with a child of two or more cells, 3 inner with a one-cell child), index in bits
+/// 2-31. Version 1 stored 8 bytes (index, count).
 struct SgCellRecord {
     std::uint32_t bits;
 };

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 namespace sg {
@@ -15,12 +17,14 @@ using Polygon = ClippedTriangle::Polygon;
 
 // x and y of a point or bound as one pair of lanes (GCC's and Clang's vector extension).
 using Pair = double __attribute__((vector_size(16)));
-static_assert(sizeof(Vec3d) == 3 * sizeof(double), "Vec3d's x and y are loaded as one Pair");
+static_assert(sizeof(Vec3d) == 3 * sizeof(double) && offsetof(Vec3d, y) == sizeof(double) &&
+                  std::is_standard_layout_v<Vec3d> && std::is_trivially_copyable_v<Vec3d>,
+              "Vec3d's x and y are loaded as one Pair");
 
 [[gnu::always_inline]] inline Pair xy_of(const Vec3d& p) noexcept
 {
     Pair xy;
-    std::memcpy(&xy, &p.x, sizeof xy);
+    std::memcpy(&xy, &p, sizeof xy);  // x and y, the first 16 bytes of the object
     return xy;
 }
 

@@ -100,6 +100,21 @@ TEST(Validate, RefusesEachKindOfCorruption)
                                                " has two or more cells, but it has 1"
                                          : "has one cell, but it has");
     }
+    // The same in the root cell and in a one-cell node's own cell.
+    g = f.grid;
+    ASSERT_TRUE(g.root.is_inner());
+    const std::uint32_t root_child = g.root.child();
+    g.root = CellRef::make_inner(root_child, g.nodes[root_child].resolution() == 1 ? 2 : 1);
+    expect_refused(g, "root cell: the cell's kind says its child node");
+    g = f.grid;
+    const auto chain = std::ranges::find_if(g.nodes, [](const GridNode& n) {
+        return n.resolution() == 1 && n.only_cell().is_inner();
+    });
+    ASSERT_NE(chain, g.nodes.end());
+    const CellRef own = chain->only_cell();
+    chain->set_only_cell(
+        CellRef::make_inner(own.child(), g.nodes[own.child()].resolution() == 1 ? 2 : 1));
+    expect_refused(g, "cell 0: the cell's kind says its child node");
 
     g = f.grid;
     g.nodes[1] = GridNode::from_raw(g.nodes[1].lo, g.nodes[1].hi, g.nodes[1].cells_bits(),

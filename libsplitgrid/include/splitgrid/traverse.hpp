@@ -19,7 +19,8 @@ namespace sg {
 /// stack of max_supported_depth + 1 entries; a mailbox skips a triangle met again in a
 /// neighbouring cell (its answer cannot change); the triangles of a leaf are tested up to
 /// eight at a time. Runs the kernels of kernel_isa() (query.hpp). `counters`, when given, gets
-/// this query's work added (nodes entered, cells stepped, triangles tested).
+/// this query's work added (nodes entered, cells stepped, triangles tested). Precondition:
+/// the grid passes check_invariants (the builder's grids do; read_sg_file checks every file).
 [[nodiscard]] inline Hit intersect(const SplitGrid& grid, const MeshView& mesh, const Ray& ray,
                                    TraversalCounters* counters = nullptr,
                                    const QueryOptions& options = {}) noexcept

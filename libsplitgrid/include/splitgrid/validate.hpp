@@ -12,6 +12,8 @@ namespace sg {
 /// - every node index, cell range and reference range lies inside its array;
 /// - every node is the child of exactly one cell (no cycles, no sharing), reachable from the
 ///   root, and at depth <= max_supported_depth;
+/// - every cell word has a valid kind, and an inner cell's kind matches its child's
+///   resolution (the walk enters the child as the kind says);
 /// - axes are 0..2, resolutions >= 1, lo <= hi, planes finite, and [lo, hi] lies inside the
 ///   node's box on its axis;
 /// - every triangle reference is < triangle_count; the root box is finite and non-empty

@@ -155,6 +155,7 @@ private:
         while (inner.has_one_cell_child()) {
             search_.count_node();
             const GridNode node = grid_.nodes[inner.child()];
+            SG_ASSERT(node.resolution() == 1);  // check_invariants checks the kind
             // An extreme ray (crossings near FLT_MAX) is clipped here as make_cursor clips it;
             // its walk over the one cell would then keep the clipped interval.
             const int axis = node.axis();
@@ -172,6 +173,7 @@ private:
             inner = cell;
         }
         search_.count_node();
+        SG_ASSERT(grid_.nodes[inner.child()].resolution() >= 2);
         return make_cursor(grid_.nodes[inner.child()], n0, n1, c);
     }
 
