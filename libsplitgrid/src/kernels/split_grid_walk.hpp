@@ -44,11 +44,12 @@ inline constexpr std::size_t grid_stack_size = max_supported_depth + 1;
 /// Walks the Split Grid front to back for `ray`, testing leaves with `test` and keeping the
 /// result in `search`. Per node entry: one slab clip (two crossings) and the entry cell from
 /// one multiply by 1 / dt (a division that depends on the node's record only, so it runs
-/// beside the clip instead of after it), no correction loop; per cell: one crossing (a
-/// multiply and an add) and two compares; per non-empty cell, a prefetch of what the node's
-/// next cell leads to. Per random ray on the 871k-triangle dragon (`kernel-cost`, AVX2): 2,770
-/// instructions, 22.5 mispredicted branches, 22.7 L1 misses, of which the walk (node entries
-/// and cells) 1,843 / 19.2 / 11.3 and the batched triangle tests 201 / 1.3 / 6.7
+/// beside the clip instead of after it), no correction loop, and a prefetch of the node's
+/// first cells; per cell: one crossing (a multiply and an add) and two compares; per
+/// non-empty cell, a prefetch of what the node's next cell leads to. Per random ray on the
+/// 871k-triangle dragon (`kernel-cost`, AVX2): 2,791 instructions, 22.7 mispredicted
+/// branches, 22.7 L1 misses, of which the walk (node entries and cells) 1,864 / 19.4 / 11.3
+/// and the batched triangle tests 201 / 1.3 / 6.7
 /// (docs/BENCH.md). A class rather than lambdas: GCC compiles lambdas without the instruction
 /// set of the target region they are written in.
 template <TriangleTest test, class Search>
@@ -206,6 +207,9 @@ private:
                            cell, cell + 1, 1, node.first_cell()};
             return Entry::cursor;
         }
+        // The entry cell is found from the interval as received, so that its multiply does not
+        // wait for the clip (an earlier start only adds cells; docs/SPLIT_GRID.md).
+        const float n0_in = n0;
         float t_lo;
         if (!clip_to_slab(node, axis, n0, n1, t_lo)) return Entry::none;
         const float pad = ray_.pad[axis];
@@ -215,6 +219,9 @@ private:
         const std::int32_t down = ray_.negative[axis] ? 1 : 0;
         const std::int32_t end = (static_cast<std::int32_t>(n) + 1) * (1 - down) - 1;
         const std::int32_t step = 1 - 2 * down;
+        // The node's first cells, asked for while the entry cell is computed (its index
+        // depends on the record's planes; where the cells lie, only on its first_cell).
+        __builtin_prefetch(grid_.cells.data() + node.first_cell());
         if (ray_.extreme) {
             // Crossings near FLT_MAX: every cell, in ray order, over the node's whole interval.
             // A NaN t_lo makes every extrapolated crossing NaN, which the walk's std::min and
@@ -226,7 +233,7 @@ private:
         }
         const float dt = (node.hi - node.lo) * reciprocal_resolution(n) * ray_.inv[axis];
         // The first cell in ray order whose widened interval may reach n0: position of the
-        // parameter n0 - pad in cell units, rounded down (it is a lower bound going up the
+        // parameter n0_in - pad in cell units, rounded down (it is a lower bound going up the
         // axis and, dt being negative, an upper bound going down). 1 / dt and the product
         // round twice where a division rounds once; the allowance covers both
         // (docs/SPLIT_GRID.md). Where x is not finite (a flat node, dt = 0, or cells so thin
@@ -234,7 +241,7 @@ private:
         // which can only add cells. (std::max(0, x) is a min/max instruction, not a branch.)
         const float last = static_cast<float>(n - 1);
         const float cells_per_t = 1.0f / dt;
-        float x = (n0 - pad - t_lo) * cells_per_t;
+        float x = (n0_in - pad - t_lo) * cells_per_t;
         if (!(std::abs(x) <= std::numeric_limits<float>::max())) x = up ? 0.0f : last;
         const auto cell = static_cast<std::int32_t>(std::min(last, std::max(0.0f, x)));
         c = GridCursor{t_lo, dt, n0, n1, pad, cell, end, step, node.first_cell()};
