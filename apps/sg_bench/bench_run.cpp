@@ -366,7 +366,7 @@ public:
             vary("resolution_sigma", fixed(v, 0), [&](BuildConfig& c) { c.resolution_sigma = v; });
         for (std::uint32_t v : {1u, 4u})
             vary("resolution_min", std::to_string(v), [&](BuildConfig& c) { c.resolution_min = v; });
-        for (std::uint32_t v : {2u, 4u, 16u, 32u})
+        for (std::uint32_t v : {4u, 8u, 32u, 64u})
             vary("leaf_size", std::to_string(v), [&](BuildConfig& c) { c.leaf_size = v; });
         for (std::uint32_t v : {4u, 8u, 16u})
             vary("max_depth", std::to_string(v), [&](BuildConfig& c) { c.max_depth = v; });

@@ -38,9 +38,12 @@ struct BuildConfig {
     double resolution_sigma = 48.0;
     /// A cell with at most this many triangles becomes a leaf. Range [1, 2^20]. Equidistant
     /// planes cut triangles wherever they fall, so small leaves cost references: on the
-    /// Stanford dragon (871k triangles) leaf size 4 gives 5.8 references per triangle and
-    /// 56 structure bytes per triangle, 8 gives 4.7 and 38.
-    std::uint32_t leaf_size = 8;
+    /// Stanford dragon (871k triangles) leaf size 8 gives 4.25 references per triangle and
+    /// 35.4 structure bytes per triangle, 16 gives 3.02 and 19.6. The leaf test reads its
+    /// references eight at a time, so a full leaf of 16 takes two passes; against 8 it
+    /// traced 2-8% faster (medians of seven scenes, 1 and 2 threads) and built 1.7 times as
+    /// fast (docs/BENCH.md, "Leaf size 16 under the lean kernels").
+    std::uint32_t leaf_size = 16;
     /// Deepest inner node (the root is depth 0); cells of a node at this depth become leaves.
     /// Range [0, 64]; 64 also bounds the traversal stack.
     std::uint32_t max_depth = 32;
