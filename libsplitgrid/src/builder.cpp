@@ -11,6 +11,7 @@
 #include <type_traits>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
@@ -140,13 +141,23 @@ struct Bounds {
 // extents of every node on the path from the subtree's root are stacked in `tris` and
 // `extents` (a node's cells after its own range), the cell counts of those nodes in
 // `cell_counts`; `split` is the candidate split of the node at hand and `cell_boxes` its
-// cells' padded boxes.
+// cells' padded boxes. `tris` and `extents` never shrink: their size is the most any subtree
+// built with them has stacked, and only the entries a node writes are read.
 struct Scratch {
     std::vector<std::uint32_t> tris;
     std::vector<TriExtent> extents;
     std::vector<std::uint32_t> cell_counts;
     std::vector<Aabbd> cell_boxes;
     Split split;
+};
+
+// What one thread builds its serial subtrees with, one after another: the stacks, and the
+// arrays a subtree is written to before it is copied into a Fragment of its exact size. Kept
+// for the whole build, so that a subtree neither allocates nor fills its stacks with zeros
+// once the thread's first ones have grown them.
+struct Workspace {
+    Scratch scratch;
+    Fragment out;
 };
 
 class Builder {
@@ -173,8 +184,7 @@ public:
     {
         if (tris.empty()) return {};
         if (tris.size() < parallel_grain)
-            return build_fragment(box, std::move(tris), std::move(extents), depth, weight,
-                                  kept_all);
+            return build_fragment(box, tris, extents, depth, weight, kept_all);
         const std::size_t n = tris.size();
         extents.resize(n);
         Split split;
@@ -224,6 +234,31 @@ public:
         cell.kind = CellKind::Inner;
         cell.node = std::move(node);
         return wrap(plan.bounds, std::move(cell));
+    }
+
+    // Every triangle's extent in a box that contains it, as clipped_extent computes it (the
+    // clipped piece is then the triangle's own box, which is exact in floats): the root's
+    // extents, computed without clipping and in parallel (docs/BENCH.md, "The serial subtrees'
+    // memory kept per thread, the root's extents unclipped").
+    std::vector<TriExtent> whole_extents() const
+    {
+        std::vector<TriExtent> extents(mesh_.triangle_count());
+        run(extents.size(), [&](std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k) {
+                const auto tri = static_cast<std::uint32_t>(k);
+                const Vec3f a = mesh_.vertex(tri, 0);
+                const Vec3f b = mesh_.vertex(tri, 1);
+                const Vec3f c = mesh_.vertex(tri, 2);
+                TriExtent& e = extents[k];
+                e.known = true;
+                for (int axis = 0; axis < 3; ++axis) {
+                    e.lower[axis] = std::min({a[axis], b[axis], c[axis]});
+                    e.upper[axis] = std::max({a[axis], b[axis], c[axis]});
+                    e.size[axis] = static_cast<float>(double{e.upper[axis]} - e.lower[axis]);
+                }
+            }
+        });
+        return extents;
     }
 
 private:
@@ -364,26 +399,38 @@ private:
         return weight * static_cast<double>(count) / static_cast<double>(total_refs);
     }
 
-    // A cell of fewer than parallel_grain triangles: its whole subtree, built by this thread.
-    BuiltCell build_fragment(const Aabb& box, std::vector<std::uint32_t> tris,
-                             std::vector<TriExtent> extents, std::uint32_t depth, double weight,
-                             std::uint32_t kept_all)
+    // A cell of fewer than parallel_grain triangles: its whole subtree, built by this thread
+    // in the thread's workspace (no task runs inside it, so none can interleave with it).
+    BuiltCell build_fragment(const Aabb& box, const std::vector<std::uint32_t>& tris,
+                             const std::vector<TriExtent>& extents, std::uint32_t depth,
+                             double weight, std::uint32_t kept_all)
     {
         const std::size_t n = tris.size();
-        Scratch scratch;
-        scratch.tris = std::move(tris);
-        scratch.extents = std::move(extents);
-        scratch.extents.resize(n);
-        BuiltCell cell;
-        cell.fragment = std::make_unique<Fragment>();
-        Fragment& fragment = *cell.fragment;
-        fragment.root =
-            build_serial(box, 0, n, n, depth, weight, kept_all, false, scratch, fragment);
-        cell.kind = fragment.root.kind();
+        Workspace& workspace = workspaces_.local();
+        Scratch& scratch = workspace.scratch;
+        if (scratch.tris.size() < n) {
+            scratch.tris.resize(n);
+            scratch.extents.resize(n);
+        }
+        std::copy(tris.begin(), tris.end(), scratch.tris.begin());
+        // The parent's extents (each marked known or not), or none: then all are clipped.
+        const std::size_t known = std::min(n, extents.size());
+        std::copy_n(extents.begin(), known, scratch.extents.begin());
+        std::fill_n(scratch.extents.begin() + static_cast<std::ptrdiff_t>(known), n - known,
+                    TriExtent{});
+        Fragment& out = workspace.out;
+        out.nodes.clear();
+        out.cells.clear();
+        out.triangle_refs.clear();
+        const CellRef root =
+            build_serial(box, 0, n, n, depth, weight, kept_all, false, scratch, out);
         // Fragments wait for flatten() until the whole tree is built: no spare capacity.
-        fragment.nodes.shrink_to_fit();
-        fragment.cells.shrink_to_fit();
-        fragment.triangle_refs.shrink_to_fit();
+        BuiltCell cell;
+        cell.kind = root.kind();
+        cell.fragment = std::make_unique<Fragment>(
+            Fragment{root, {out.nodes.begin(), out.nodes.end()},
+                     {out.cells.begin(), out.cells.end()},
+                     {out.triangle_refs.begin(), out.triangle_refs.end()}});
         return cell;
     }
 
@@ -814,6 +861,7 @@ private:
     // node_resolution of the serial subtrees' nodes, which it would otherwise compute (with
     // an exp) once per node and axis tried.
     std::vector<std::uint32_t> small_resolutions_;
+    tbb::enumerable_thread_specific<Workspace> workspaces_;
     std::mutex progress_mutex_;
     double done_ = 0.0;
     double last_reported_ = 0.0;
@@ -967,7 +1015,9 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
     tbb::task_arena arena(config.threads == 0 ? tbb::task_arena::automatic
                                               : static_cast<int>(config.threads));
     BuiltCell root;
-    arena.execute([&] { root = builder.build_cell(grid.root_box, std::move(all), {}, 0, 1.0); });
+    arena.execute([&] {
+        root = builder.build_cell(grid.root_box, std::move(all), builder.whole_extents(), 0, 1.0);
+    });
     // The arrays get their final size at once: growing them by doubling would hold up to
     // three times their size while the built tree is still held too.
     GridSize size;
