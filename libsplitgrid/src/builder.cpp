@@ -238,8 +238,8 @@ public:
 
     // Every triangle's extent in a box that contains it, as clipped_extent computes it (the
     // clipped piece is then the triangle's own box, which is exact in floats): the root's
-    // extents, computed without clipping and in parallel (docs/BENCH.md, "The serial subtrees'
-    // memory kept per thread, the root's extents unclipped").
+    // extents, computed without clipping and in parallel (docs/BENCH.md, "The root's extents
+    // without clipping, and one workspace per thread for the serial subtrees").
     std::vector<TriExtent> whole_extents() const
     {
         std::vector<TriExtent> extents(mesh_.triangle_count());
@@ -260,6 +260,9 @@ public:
         });
         return extents;
     }
+
+    // Frees the threads' workspaces (once the tree is built, before it is flattened).
+    void release_workspaces() { workspaces_.clear(); }
 
 private:
     // What a cell does with its triangles: becomes a leaf, or a node split as the Split
@@ -400,7 +403,8 @@ private:
     }
 
     // A cell of fewer than parallel_grain triangles: its whole subtree, built by this thread
-    // in the thread's workspace (no task runs inside it, so none can interleave with it).
+    // in the thread's workspace (no task of the build runs inside it: it calls no parallel
+    // algorithm, and report() isolates the progress callback).
     BuiltCell build_fragment(const Aabb& box, const std::vector<std::uint32_t>& tris,
                              const std::vector<TriExtent>& extents, std::uint32_t depth,
                              double weight, std::uint32_t kept_all)
@@ -850,7 +854,9 @@ private:
         done_ += weight;
         if (done_ - last_reported_ >= 0.005 || done_ >= 1.0 - 1e-9) {
             last_reported_ = done_;
-            progress_(std::min(1.0, done_));
+            // Isolated: a callback that runs parallel work of its own must not let this thread
+            // take up another of the build's tasks, which would share its Workspace.
+            tbb::this_task_arena::isolate([&] { progress_(std::min(1.0, done_)); });
         }
     }
 
@@ -1018,6 +1024,7 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
     arena.execute([&] {
         root = builder.build_cell(grid.root_box, std::move(all), builder.whole_extents(), 0, 1.0);
     });
+    builder.release_workspaces();
     // The arrays get their final size at once: growing them by doubling would hold up to
     // three times their size while the built tree is still held too.
     GridSize size;
