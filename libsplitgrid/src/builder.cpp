@@ -237,7 +237,7 @@ public:
     }
 
     // Every triangle's extent in a box that contains it, as clipped_extent computes it (the
-    // clipped piece is then the triangle's own box, which is exact in floats): the root's
+    // clipped piece is then the triangle's own box, with the same rounding): the root's
     // extents, computed without clipping and in parallel (docs/BENCH.md, "The root's extents
     // without clipping, and one workspace per thread for the serial subtrees").
     std::vector<TriExtent> whole_extents() const
@@ -245,17 +245,8 @@ public:
         std::vector<TriExtent> extents(mesh_.triangle_count());
         run(extents.size(), [&](std::size_t begin, std::size_t end) {
             for (std::size_t k = begin; k < end; ++k) {
-                const auto tri = static_cast<std::uint32_t>(k);
-                const Vec3f a = mesh_.vertex(tri, 0);
-                const Vec3f b = mesh_.vertex(tri, 1);
-                const Vec3f c = mesh_.vertex(tri, 2);
-                TriExtent& e = extents[k];
-                e.known = true;
-                for (int axis = 0; axis < 3; ++axis) {
-                    e.lower[axis] = std::min({a[axis], b[axis], c[axis]});
-                    e.upper[axis] = std::max({a[axis], b[axis], c[axis]});
-                    e.size[axis] = static_cast<float>(double{e.upper[axis]} - e.lower[axis]);
-                }
+                const Aabbd whole = whole_box(static_cast<std::uint32_t>(k));
+                extents[k] = rounded_extent(whole, size_of(whole));
             }
         });
         return extents;
@@ -772,9 +763,22 @@ private:
         if (config_.clip_triangles ? !clip_triangle_bounds(a, b, c, clip_box, clipped)
                                    : !clip_triangle_box(whole, clip_box, clipped))
             return empty_extent();
+        return rounded_extent(clipped, size_of(whole));
+    }
+
+    // The bounding box of triangle `tri`, in double (exact: its corners are floats).
+    Aabbd whole_box(std::uint32_t tri) const noexcept
+    {
+        return triangle_box(Vec3d(mesh_.vertex(tri, 0)), Vec3d(mesh_.vertex(tri, 1)),
+                            Vec3d(mesh_.vertex(tri, 2)));
+    }
+
+    // A whole triangle's size per axis (TriExtent::size) from its bounding box.
+    static Vec3f size_of(const Aabbd& whole) noexcept
+    {
         Vec3f size;
         for (int k = 0; k < 3; ++k) size[k] = static_cast<float>(whole.upper[k] - whole.lower[k]);
-        return rounded_extent(clipped, size);
+        return size;
     }
 
     // The extent of a clipped piece in floats, rounded outward so it still contains it.
