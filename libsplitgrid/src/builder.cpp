@@ -7,8 +7,8 @@
 #include <limits>
 #include <memory>
 #include <mutex>
-#include <span>
 #include <type_traits>
+#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -57,6 +57,44 @@ struct TriExtent {
     bool known = false;
 };
 
+// Leaves the elements a container adds without arguments (std::vector's resize) unwritten,
+// where std::allocator fills them (with zeros, or a type's default member initializers):
+// the top of the tree sizes its arrays of triangle ids and extents and then writes every
+// element, and filling them first was a pass over tens of megabytes per level
+// (docs/BENCH.md, "The top nodes' triangles handed out in parallel"). For types whose bytes
+// may be left as they are until written: trivially copyable and destructible (so that the
+// allocation itself creates them, as for malloc).
+template <class T>
+struct UninitializedAllocator {
+    using value_type = T;
+    static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+
+    UninitializedAllocator() noexcept = default;
+    template <class U>
+    UninitializedAllocator(const UninitializedAllocator<U>& /*other*/) noexcept
+    {
+    }
+
+    T* allocate(std::size_t n) { return std::allocator<T>{}.allocate(n); }
+    void deallocate(T* p, std::size_t n) noexcept { std::allocator<T>{}.deallocate(p, n); }
+    void construct(T* /*p*/) noexcept {}
+    template <class... Args>
+    void construct(T* p, Args&&... args)
+    {
+        ::new (static_cast<void*>(p)) T(std::forward<Args>(args)...);
+    }
+
+    friend bool operator==(const UninitializedAllocator& /*a*/,
+                           const UninitializedAllocator& /*b*/) noexcept
+    {
+        return true;
+    }
+};
+
+// The triangle ids and extents of a node in the parallel top of the tree.
+using TriangleIds = std::vector<std::uint32_t, UninitializedAllocator<std::uint32_t>>;
+using ExtentArray = std::vector<TriExtent, UninitializedAllocator<TriExtent>>;
+
 // A candidate split of a node: axis, bounding planes, resolution and each triangle's cells.
 struct Split {
     int axis = 0;
@@ -66,7 +104,22 @@ struct Split {
     std::vector<std::uint32_t> first;   // first cell of each triangle
     std::vector<std::uint32_t> last;    // last cell of each triangle (< first: none)
     std::vector<std::uint32_t> counts;  // triangles per cell
+    // Above parallel_grain triangles, per block of them (grain_block), the block's counts as
+    // differences (see try_split), resolution + 1 per block.
+    std::vector<std::uint32_t> block_counts;
 };
+
+// The triangles of a node of at least parallel_grain of them are located and handed out in
+// blocks of parallel_grain: the number of blocks for n triangles, and block b's range. They
+// depend on n alone, not on the thread count.
+std::size_t grain_blocks(std::size_t n) noexcept
+{
+    return (n + parallel_grain - 1) / parallel_grain;
+}
+std::pair<std::size_t, std::size_t> grain_block(std::size_t b, std::size_t n) noexcept
+{
+    return {b * parallel_grain, std::min(n, (b + 1) * parallel_grain)};
+}
 
 // A subtree built by one thread, in its final depth-first pre-order, with indices local to
 // its own arrays: flatten() appends it to the grid and shifts them. Every subtree of fewer
@@ -106,7 +159,7 @@ void store_cell(std::vector<GridNode>& nodes, std::vector<CellRef>& cells, std::
 struct BuiltNode;
 struct BuiltCell {
     CellKind kind = CellKind::Empty;
-    std::vector<std::uint32_t> triangles;  // leaf
+    TriangleIds triangles;  // leaf
     std::unique_ptr<BuiltNode> node;       // inner
     std::unique_ptr<Fragment> fragment;    // a serially built subtree (kind: its root's)
 };
@@ -124,6 +177,44 @@ struct BuiltNode {
 struct ExtentSummary {
     Aabb tight;
     std::array<double, 3> mean_size{};
+};
+
+// The extents a node's steps read (plan_cell, distribute), one per triangle of the node, in
+// the node's order: stored in an array...
+struct StoredExtents {
+    TriExtent* items;
+    std::size_t count;
+
+    std::size_t size() const noexcept { return count; }
+    const TriExtent& operator[](std::size_t k) const noexcept { return items[k]; }
+};
+
+// ... or, at the root, computed where they are read: every triangle lies in the root's box,
+// so its extent there is its own bounding box, whose corners are floats already (what
+// rounded_extent gives for it: the clipped_extent of a triangle inside its box). The root
+// then fills no array of them, which took a tenth of a build (docs/BENCH.md, "The root
+// without an array of extents").
+struct WholeExtents {
+    const MeshView* mesh;
+    const std::uint32_t* tris;
+    std::size_t count;
+
+    std::size_t size() const noexcept { return count; }
+    TriExtent operator[](std::size_t k) const noexcept
+    {
+        const Vec3f a = mesh->vertex(tris[k], 0);
+        const Vec3f b = mesh->vertex(tris[k], 1);
+        const Vec3f c = mesh->vertex(tris[k], 2);
+        TriExtent e;
+        e.known = true;
+        for (int i = 0; i < 3; ++i) {
+            e.lower[i] = std::min({a[i], b[i], c[i]});
+            e.upper[i] = std::max({a[i], b[i], c[i]});
+            // As size_of: the difference in double, then rounded to float.
+            e.size[i] = static_cast<float>(double(e.upper[i]) - double(e.lower[i]));
+        }
+        return e;
+    }
 };
 
 // One-cell nodes around a cell (see Builder::choose_bounds): at most one per axis.
@@ -173,83 +264,42 @@ public:
     }
 
     // Builds the cell covering `box` for the triangles `tris` (all known to touch the padded
-    // box), as a node at `depth`, or a leaf when splitting does not pay. `extents` is empty or
-    // holds, per triangle, its clipped extent in this box where the parent already knew it.
+    // box), as a node at `depth`, or a leaf when splitting does not pay. `extents` holds, per
+    // triangle, its clipped extent in this box where the parent already knew it (known).
     // `weight` is this cell's share of the whole build, for progress reports. `kept_all` counts
     // the levels in a row at which this cell received all of its parent's triangles (see
     // kept_all_limit).
-    BuiltCell build_cell(const Aabb& box, std::vector<std::uint32_t> tris,
-                         std::vector<TriExtent> extents, std::uint32_t depth, double weight,
+    BuiltCell build_cell(const Aabb& box, TriangleIds tris,
+                         ExtentArray extents, std::uint32_t depth, double weight,
                          std::uint32_t kept_all = 0)
     {
         if (tris.empty()) return {};
         if (tris.size() < parallel_grain)
             return build_fragment(box, tris, extents, depth, weight, kept_all);
         const std::size_t n = tris.size();
-        extents.resize(n);
+        const StoredExtents stored{extents.data(), n};
         Split split;
-        const Plan plan =
-            plan_cell(box, tris.data(), extents.data(), n, depth, kept_all, false, split);
+        const Plan plan = plan_cell(box, tris.data(), stored, depth, kept_all, false, split);
         if (!plan.is_node) return wrap(plan.bounds, make_leaf(std::move(tris), weight));
-
-        const int axis = split.axis;
-        const std::uint32_t resolution = split.resolution;
-        const CellMath cm(split.lo, split.hi, resolution);
-        std::size_t total_refs = 0;
-        for (std::uint32_t c : split.counts) total_refs += c;
-        std::vector<std::vector<std::uint32_t>> cell_tris(resolution);
-        std::vector<std::vector<TriExtent>> cell_extents(resolution);
-        for (std::uint32_t c = 0; c < resolution; ++c) {
-            cell_tris[c].reserve(split.counts[c]);
-            cell_extents[c].reserve(split.counts[c]);
-        }
-        std::vector<Aabbd> unused;
-        // The children clip their triangles in parallel, each to its own box (distribute).
-        distribute(box, plan, split, tris.data(), extents.data(), n, nullptr, unused,
-                   [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
-                       cell_tris[c].push_back(tris[k]);
-                       cell_extents[c].push_back(e);
-                   });
-        tris = {};
-        extents = {};
-        split = {};
-
-        auto node = std::make_unique<BuiltNode>();
-        node->axis = axis;
-        node->lo = cm.lo;
-        node->hi = cm.hi;
-        node->cells.resize(resolution);
-        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, resolution, 1),
-                          [&](const tbb::blocked_range<std::uint32_t>& r) {
-                              for (std::uint32_t c = r.begin(); c < r.end(); ++c) {
-                                  const std::size_t count = cell_tris[c].size();
-                                  node->cells[c] = build_cell(
-                                      cm.cell_box(plan.bounded, axis, c), std::move(cell_tris[c]),
-                                      std::move(cell_extents[c]), plan.child_depth,
-                                      share(weight, count, total_refs),
-                                      count == n ? kept_all + 1 : 0);
-                              }
-                          });
-        BuiltCell cell;
-        cell.kind = CellKind::Inner;
-        cell.node = std::move(node);
-        return wrap(plan.bounds, std::move(cell));
+        return split_node(box, plan, split, std::move(tris), stored, [&] { extents = {}; },
+                          weight, kept_all);
     }
 
-    // Every triangle's extent in a box that contains it, as clipped_extent computes it (the
-    // clipped piece is then the triangle's own box, with the same rounding): the root's
-    // extents, computed without clipping and in parallel (docs/BENCH.md, "The root's extents
-    // without clipping, and one workspace per thread for the serial subtrees").
-    std::vector<TriExtent> whole_extents() const
+    // build_cell for the root: its box holds every triangle whole (WholeExtents).
+    BuiltCell build_root(const Aabb& box)
     {
-        std::vector<TriExtent> extents(mesh_.triangle_count());
-        run(extents.size(), [&](std::size_t begin, std::size_t end) {
-            for (std::size_t k = begin; k < end; ++k) {
-                const Aabbd whole = whole_box(static_cast<std::uint32_t>(k));
-                extents[k] = rounded_extent(whole, size_of(whole));
-            }
-        });
-        return extents;
+        TriangleIds tris(mesh_.triangle_count());
+        for (std::size_t k = 0; k < tris.size(); ++k) tris[k] = static_cast<std::uint32_t>(k);
+        const WholeExtents whole{&mesh_, tris.data(), tris.size()};
+        if (tris.size() < parallel_grain) {
+            ExtentArray extents(tris.size());
+            for (std::size_t k = 0; k < extents.size(); ++k) extents[k] = whole[k];
+            return build_fragment(box, tris, extents, 0, 1.0, 0);
+        }
+        Split split;
+        const Plan plan = plan_cell(box, tris.data(), whole, 0, 0, true, split);
+        if (!plan.is_node) return wrap(plan.bounds, make_leaf(std::move(tris), 1.0));
+        return split_node(box, plan, split, std::move(tris), whole, [] {}, 1.0, 0);
     }
 
     // Frees the threads' workspaces (once the tree is built, before it is flattened).
@@ -267,24 +317,27 @@ private:
     };
 
     // The decisions for a cell covering `box` with the n triangles `tris` (all known to touch
-    // the padded box) at `depth`, the same for build_cell and build_serial. `extents` holds
-    // n entries: per triangle its clipped extent in this box where the parent already knew
-    // it; the others are clipped here, unless `all_known` says there are none (so no pass
-    // looks for them). Fills `split` for a node.
-    Plan plan_cell(const Aabb& box, const std::uint32_t* tris, TriExtent* extents, std::size_t n,
+    // the padded box) at `depth`, the same for build_root, build_cell and build_serial.
+    // `extents` holds n entries: per triangle its clipped extent in this box where the parent
+    // already knew it; the other stored ones are clipped here, unless `all_known` says there
+    // are none (so no pass looks for them). Fills `split` for a node.
+    template <class Extents>
+    Plan plan_cell(const Aabb& box, const std::uint32_t* tris, const Extents& extents,
                    std::uint32_t depth, std::uint32_t kept_all, bool all_known,
                    Split& split) const
     {
         Plan plan;
+        const std::size_t n = extents.size();
         if (ends_as_plain_leaf(n, depth)) return plan;
-        if (!all_known) clip_unknown(box, tris, extents, n);
-        const std::span<const TriExtent> clipped(extents, n);
-        const ExtentSummary summary = summarize(clipped);
+        if constexpr (std::is_same_v<Extents, StoredExtents>) {
+            if (!all_known) clip_unknown(box, tris, extents.items, n);
+        }
+        const ExtentSummary summary = summarize(extents);
         const Aabb& tight = summary.tight;
         if (tight.is_empty()) return plan;
         plan.bounded = box;
         if (n <= config_.leaf_size || kept_all >= kept_all_limit ||
-            !find_split(box, summary, clipped, split)) {
+            !find_split(box, summary, extents, split)) {
             plan.bounds = choose_bounds(plan.bounded, tight, -1, depth);
             return plan;
         }
@@ -303,7 +356,7 @@ private:
         return depth > config_.max_depth || (!config_.bounding_nodes && n <= config_.leaf_size);
     }
 
-    // Hands each of the n triangles to the cells of `split` its extent touches:
+    // Hands each triangle k in [begin, end) to the cells of `split` its extent touches:
     // put(cell, k, extent). A triangle whose padded extent lies in one cell keeps its clipped
     // extent there: the cell's padded box differs from this one on the split axis, where it
     // still contains the clipped piece, and on the axes of bounding nodes, whose planes lie
@@ -320,11 +373,11 @@ private:
     // is working memory for the cells' padded boxes. Returns false when a cell that looks
     // at its extents got one not computed yet (unclipped pieces, or a polygon that rounding
     // lost), so that the cells know whether they have to look for such extents.
-    template <class Put>
+    template <class Extents, class Put>
     bool distribute(const Aabb& box, const Plan& plan, const Split& split,
-                    const std::uint32_t* tris, const TriExtent* extents, std::size_t n,
-                    const std::uint32_t* cell_counts, std::vector<Aabbd>& cell_boxes,
-                    const Put& put) const
+                    const std::uint32_t* tris, const Extents& extents, std::size_t begin,
+                    std::size_t end, const std::uint32_t* cell_counts,
+                    std::vector<Aabbd>& cell_boxes, const Put& put) const
     {
         const bool clip_pieces = cell_counts != nullptr && config_.clip_triangles;
         const Aabbd clip_box = Aabbd::from(box).padded(pad_);
@@ -339,7 +392,7 @@ private:
         };
         ClippedTriangle polygon;
         bool all_known = true;
-        for (std::size_t k = 0; k < n; ++k) {
+        for (std::size_t k = begin; k < end; ++k) {
             const std::uint32_t first = split.first[k];
             const std::uint32_t last = split.last[k];
             if (first == last) {
@@ -396,8 +449,8 @@ private:
     // A cell of fewer than parallel_grain triangles: its whole subtree, built by this thread
     // in the thread's workspace (no task of the build runs inside it: it calls no parallel
     // algorithm, and report() isolates the progress callback).
-    BuiltCell build_fragment(const Aabb& box, const std::vector<std::uint32_t>& tris,
-                             const std::vector<TriExtent>& extents, std::uint32_t depth,
+    BuiltCell build_fragment(const Aabb& box, const TriangleIds& tris,
+                             const ExtentArray& extents, std::uint32_t depth,
                              double weight, std::uint32_t kept_all)
     {
         const std::size_t n = tris.size();
@@ -440,8 +493,9 @@ private:
                          bool all_known, Scratch& s, Fragment& out)
     {
         if (n == 0) return CellRef::make_empty();
-        const Plan plan = plan_cell(box, s.tris.data() + begin, s.extents.data() + begin, n,
-                                    depth, kept_all, all_known, s.split);
+        const Plan plan =
+            plan_cell(box, s.tris.data() + begin, StoredExtents{s.extents.data() + begin, n},
+                      depth, kept_all, all_known, s.split);
         Chain chain;
         emit_bounds(plan.bounds, chain, out);
         if (!plan.is_node) {
@@ -468,8 +522,8 @@ private:
             s.extents.resize(child_top);
         }
         const bool children_known = distribute(
-            box, plan, split, s.tris.data() + begin, s.extents.data() + begin, n,
-            s.cell_counts.data() + counts_at, s.cell_boxes,
+            box, plan, split, s.tris.data() + begin, StoredExtents{s.extents.data() + begin, n}, 0,
+            n, s.cell_counts.data() + counts_at, s.cell_boxes,
             [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
                 const std::size_t to = top + split.counts[c]++;
                 s.tris[to] = s.tris[begin + k];
@@ -535,6 +589,80 @@ private:
         return CellRef::make_leaf(first);
     }
 
+    // The rest of build_cell for a node planned as `plan` and `split`: hands its triangles to
+    // the cells, calls `release` (which frees the node's stored extents) and builds the cells
+    // in parallel.
+    template <class Extents, class Release>
+    BuiltCell split_node(const Aabb& box, const Plan& plan, Split& split,
+                         TriangleIds tris, const Extents& extents,
+                         const Release& release, double weight, std::uint32_t kept_all)
+    {
+        const std::size_t n = tris.size();
+        const int axis = split.axis;
+        const std::uint32_t resolution = split.resolution;
+        const CellMath cm(split.lo, split.hi, resolution);
+        std::size_t total_refs = 0;
+        for (std::uint32_t c : split.counts) total_refs += c;
+        // The triangles are handed out in parallel, in the blocks try_split counted them in:
+        // each block writes what it gives a cell after what the blocks before it gave, so that
+        // a cell's triangles keep this node's order whatever the thread count. The children
+        // clip the straddling triangles in parallel, each to its own box (distribute).
+        const std::size_t blocks = grain_blocks(n);
+        std::vector<std::uint32_t> next(blocks * resolution);
+        std::vector<std::uint32_t> given(resolution, 0);
+        for (std::size_t b = 0; b < blocks; ++b) {
+            const std::uint32_t* differences = split.block_counts.data() + b * (resolution + 1);
+            std::uint32_t count = 0;
+            for (std::uint32_t c = 0; c < resolution; ++c) {
+                count += differences[c];
+                next[b * resolution + c] = given[c];
+                given[c] += count;
+            }
+        }
+        std::vector<TriangleIds> cell_tris(resolution);
+        std::vector<ExtentArray> cell_extents(resolution);
+        tbb::parallel_for(std::uint32_t{0}, resolution, [&](std::uint32_t c) {
+            cell_tris[c].resize(split.counts[c]);
+            cell_extents[c].resize(split.counts[c]);
+        });
+        tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+            std::uint32_t* at = next.data() + b * resolution;
+            const auto [begin, end] = grain_block(b, n);
+            std::vector<Aabbd> unused;
+            distribute(box, plan, split, tris.data(), extents, begin, end, nullptr, unused,
+                       [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
+                           const std::uint32_t to = at[c]++;
+                           cell_tris[c][to] = tris[k];
+                           cell_extents[c][to] = e;
+                       });
+        });
+        tris = {};
+        release();
+        split = {};
+
+        auto node = std::make_unique<BuiltNode>();
+        node->axis = axis;
+        node->lo = cm.lo;
+        node->hi = cm.hi;
+        node->cells.resize(resolution);
+        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, resolution, 1),
+                          [&](const tbb::blocked_range<std::uint32_t>& r) {
+                              for (std::uint32_t c = r.begin(); c < r.end(); ++c) {
+                                  const std::size_t count = cell_tris[c].size();
+                                  node->cells[c] = build_cell(
+                                      cm.cell_box(plan.bounded, axis, c), std::move(cell_tris[c]),
+                                      std::move(cell_extents[c]), plan.child_depth,
+                                      share(weight, count, total_refs),
+                                      count == n ? kept_all + 1 : 0);
+                              }
+                          });
+        BuiltCell cell;
+        cell.kind = CellKind::Inner;
+        cell.node = std::move(node);
+        return wrap(plan.bounds, std::move(cell));
+    }
+
+
     // Clips the triangles whose extent in `box` is not known yet.
     void clip_unknown(const Aabb& box, const std::uint32_t* tris, TriExtent* extents,
                       std::size_t n) const
@@ -548,8 +676,9 @@ private:
 
     // The split of the first axis, by decreasing extent of the clipped triangles, that makes
     // progress (the others are tried only if the longest makes none).
-    bool find_split(const Aabb& box, const ExtentSummary& summary,
-                    std::span<const TriExtent> extents, Split& split) const
+    template <class Extents>
+    bool find_split(const Aabb& box, const ExtentSummary& summary, const Extents& extents,
+                    Split& split) const
     {
         const Aabb& tight = summary.tight;
         // Insertion sort, stable like std::stable_sort, which allocates a buffer on every call
@@ -624,8 +753,9 @@ private:
 
     // Fills `split` for `axis` and says whether it makes progress (BuildConfig's
     // no_progress_fraction and stop_by_cost).
+    template <class Extents>
     bool try_split(const Aabb& box, const ExtentSummary& summary, int axis,
-                   std::span<const TriExtent> extents, Split& split) const
+                   const Extents& extents, Split& split) const
     {
         const Aabb& tight = summary.tight;
         const std::size_t n = extents.size();
@@ -652,23 +782,21 @@ private:
         const CellMath cm(split.lo, split.hi, split.resolution);
 
         // Cell range of each triangle: the cells whose padded slab its clipped extent touches
-        // (none, first > last, for an empty one). A serial node counts the cells' triangles
-        // in the same pass.
+        // (none, first > last, for an empty one), and the cells' triangles counted in the same
+        // pass: by the node, or above parallel_grain by each block of triangles, in parallel
+        // (the blocks' counts are summed after, and tell split_node where each block writes).
         split.first.resize(n);
         split.last.resize(n);
         // The counts are summed from differences (+1 at a triangle's first cell, -1 past its
         // last: an empty extent's cancel), two adds per triangle without a loop over its
         // cells, whose length the branch predictor cannot know. Unsigned arithmetic wraps,
         // and every prefix sum is a count.
-        split.counts.assign(split.resolution + 1, 0);
-        auto add_to_counts = [&](std::uint32_t first, std::uint32_t last) {
-            ++split.counts[first];
-            --split.counts[last + 1];
-        };
+        const std::size_t stride = split.resolution + 1;
+        split.counts.assign(stride, 0);
         // The coordinates are gathered in blocks, so that locate_cells finds four triangles'
         // cells at once (docs/BENCH.md, "Locating four triangles at once"). An empty extent's
         // coordinates are zero; its cells are thrown away.
-        auto locate = [&](std::size_t begin, std::size_t end, auto count) {
+        auto locate = [&](std::size_t begin, std::size_t end, std::uint32_t* counts) {
             constexpr std::size_t block = 64;
             std::array<float, block> lower;
             std::array<float, block> upper;
@@ -685,17 +813,23 @@ private:
                         split.first[k] = 1;
                         split.last[k] = 0;
                     }
-                    if constexpr (decltype(count)::value)
-                        add_to_counts(split.first[k], split.last[k]);
+                    ++counts[split.first[k]];
+                    --counts[split.last[k] + 1];
                 }
             }
         };
         if (n < parallel_grain) {
-            locate(0, n, std::true_type{});
+            locate(0, n, split.counts.data());
         } else {
-            // Located in parallel, counted after: the counts are shared.
-            run(n, [&](std::size_t begin, std::size_t end) { locate(begin, end, std::false_type{}); });
-            for (std::size_t k = 0; k < n; ++k) add_to_counts(split.first[k], split.last[k]);
+            const std::size_t blocks = grain_blocks(n);
+            split.block_counts.assign(blocks * stride, 0);
+            tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+                const auto [begin, end] = grain_block(b, n);
+                locate(begin, end, split.block_counts.data() + b * stride);
+            });
+            for (std::size_t b = 0; b < blocks; ++b)
+                for (std::size_t c = 0; c < stride; ++c)
+                    split.counts[c] += split.block_counts[b * stride + c];
         }
         for (std::uint32_t c = 1; c < split.resolution; ++c) split.counts[c] += split.counts[c - 1];
         split.counts.pop_back();
@@ -801,48 +935,51 @@ private:
         return e;
     }
 
-    // The tight box (min and max are exact, so any reduction order gives the same box, up to
-    // the sign of a zero, which the pad added to each side of it erases) and
-    // the mean sizes, summed in the triangles' order so that they do not depend on the
+    // The tight box (min and max are exact, so any order gives the same box, up to the sign
+    // of a zero, which the pad added to each side of it erases) and the mean sizes, in one
+    // pass. Below parallel_grain triangles the sizes are summed in the triangles' order;
+    // above it in parallel, in blocks that the triangle count alone fixes, added in a fixed
+    // order (tbb::parallel_deterministic_reduce): either way the sums do not depend on the
     // thread count.
-    ExtentSummary summarize(std::span<const TriExtent> extents) const
+    template <class Extents>
+    ExtentSummary summarize(const Extents& extents) const
     {
-        auto body = [&](const tbb::blocked_range<std::size_t>& r, Aabb box) {
-            for (std::size_t k = r.begin(); k < r.end(); ++k)
-                if (!extents[k].is_empty) box.extend(Aabb{extents[k].lower, extents[k].upper});
-            return box;
+        struct Sums {
+            Aabb tight;
+            std::array<double, 3> size{};
+            std::size_t kept = 0;
         };
-        ExtentSummary summary;
-        const bool serial = extents.size() < parallel_grain;
+        const bool sizes = config_.min_cell_width > 0.0;
+        auto body = [&](const tbb::blocked_range<std::size_t>& r, Sums sums) {
+            for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                const TriExtent& e = extents[k];
+                if (e.is_empty) continue;
+                sums.tight.extend(Aabb{e.lower, e.upper});
+                if (!sizes) continue;
+                for (int i = 0; i < 3; ++i) sums.size[static_cast<std::size_t>(i)] += e.size[i];
+                ++sums.kept;
+            }
+            return sums;
+        };
         const tbb::blocked_range<std::size_t> all(0, extents.size(), parallel_grain);
-        if (!serial)
-            summary.tight = tbb::parallel_reduce(all, Aabb{}, body, [](Aabb a, const Aabb& b) {
-                a.extend(b);
-                return a;
-            });
-        if (!(config_.min_cell_width > 0.0)) {
-            if (serial) summary.tight = body(all, Aabb{});
-            return summary;
-        }
-        // One pass for the sums, and below parallel_grain for the box too.
-        double sum_x = 0.0, sum_y = 0.0, sum_z = 0.0;
-        std::size_t kept = 0;
-        for (const TriExtent& e : extents) {
-            if (e.is_empty) continue;
-            if (serial) summary.tight.extend(Aabb{e.lower, e.upper});
-            sum_x += e.size.x;
-            sum_y += e.size.y;
-            sum_z += e.size.z;
-            ++kept;
-        }
-        if (kept > 0) {
-            const auto count = static_cast<double>(kept);
-            summary.mean_size = {sum_x / count, sum_y / count, sum_z / count};
-        }
+        const Sums sums =
+            extents.size() < parallel_grain
+                ? body(all, Sums{})
+                : tbb::parallel_deterministic_reduce(all, Sums{}, body, [](Sums a, const Sums& b) {
+                      a.tight.extend(b.tight);
+                      for (std::size_t i = 0; i < 3; ++i) a.size[i] += b.size[i];
+                      a.kept += b.kept;
+                      return a;
+                  });
+        ExtentSummary summary;
+        summary.tight = sums.tight;
+        if (sums.kept > 0)
+            for (std::size_t i = 0; i < 3; ++i)
+                summary.mean_size[i] = sums.size[i] / static_cast<double>(sums.kept);
         return summary;
     }
 
-    BuiltCell make_leaf(std::vector<std::uint32_t> tris, double weight)
+    BuiltCell make_leaf(TriangleIds tris, double weight)
     {
         BuiltCell cell;
         cell.kind = CellKind::Leaf;
@@ -1018,15 +1155,12 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
         grid.root_box.upper[k] = std::min(float_max, scene.upper[k] + pad);
     }
 
-    std::vector<std::uint32_t> all(mesh.triangle_count());
-    for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<std::uint32_t>(k);
-
     Builder builder(mesh, config, progress, pad);
     tbb::task_arena arena(config.threads == 0 ? tbb::task_arena::automatic
                                               : static_cast<int>(config.threads));
     BuiltCell root;
     arena.execute([&] {
-        root = builder.build_cell(grid.root_box, std::move(all), builder.whole_extents(), 0, 1.0);
+        root = builder.build_root(grid.root_box);
     });
     builder.release_workspaces();
     // The arrays get their final size at once: growing them by doubling would hold up to
