@@ -84,8 +84,8 @@ struct UninitializedAllocator {
         ::new (static_cast<void*>(p)) T(std::forward<Args>(args)...);
     }
 
-    friend bool operator==(const UninitializedAllocator& /*a*/,
-                           const UninitializedAllocator& /*b*/) noexcept
+    template <class U>
+    bool operator==(const UninitializedAllocator<U>& /*other*/) const noexcept
     {
         return true;
     }
@@ -104,22 +104,33 @@ struct Split {
     std::vector<std::uint32_t> first;   // first cell of each triangle
     std::vector<std::uint32_t> last;    // last cell of each triangle (< first: none)
     std::vector<std::uint32_t> counts;  // triangles per cell
-    // Above parallel_grain triangles, per block of them (grain_block), the block's counts as
-    // differences (see try_split), resolution + 1 per block.
+    // For at least parallel_grain triangles, per block of them (TriangleBlocks), the block's
+    // counts as differences (see try_split), resolution + 1 per block.
     std::vector<std::uint32_t> block_counts;
 };
 
-// The triangles of a node of at least parallel_grain of them are located and handed out in
-// blocks of parallel_grain: the number of blocks for n triangles, and block b's range. They
-// depend on n alone, not on the thread count.
-std::size_t grain_blocks(std::size_t n) noexcept
-{
-    return (n + parallel_grain - 1) / parallel_grain;
-}
-std::pair<std::size_t, std::size_t> grain_block(std::size_t b, std::size_t n) noexcept
-{
-    return {b * parallel_grain, std::min(n, (b + 1) * parallel_grain)};
-}
+// The blocks in which a node of at least parallel_grain triangles locates, counts and hands
+// out its triangles in parallel: parallel_grain triangles each, or more where the node has
+// many cells, so that the blocks' counts (resolution + 1 per block) take at most about a
+// quarter of an entry per triangle. They depend on the triangle count and the resolution
+// alone, not on the thread count.
+struct TriangleBlocks {
+    std::size_t triangles;
+    std::size_t size;
+    std::size_t count;
+
+    TriangleBlocks(std::size_t n, std::uint32_t resolution) noexcept
+        : triangles(n),
+          size(std::max(parallel_grain, 4 * (std::size_t{resolution} + 1))),
+          count((n + size - 1) / size)
+    {
+    }
+    // Block b's triangles, [first, second).
+    std::pair<std::size_t, std::size_t> range(std::size_t b) const noexcept
+    {
+        return {b * size, std::min(triangles, (b + 1) * size)};
+    }
+};
 
 // A subtree built by one thread, in its final depth-first pre-order, with indices local to
 // its own arrays: flatten() appends it to the grid and shifts them. Every subtree of fewer
@@ -159,9 +170,9 @@ void store_cell(std::vector<GridNode>& nodes, std::vector<CellRef>& cells, std::
 struct BuiltNode;
 struct BuiltCell {
     CellKind kind = CellKind::Empty;
-    TriangleIds triangles;  // leaf
-    std::unique_ptr<BuiltNode> node;       // inner
-    std::unique_ptr<Fragment> fragment;    // a serially built subtree (kind: its root's)
+    TriangleIds triangles;               // leaf
+    std::unique_ptr<BuiltNode> node;     // inner
+    std::unique_ptr<Fragment> fragment;  // a serially built subtree (kind: its root's)
 };
 struct BuiltNode {
     int axis = 0;
@@ -461,11 +472,8 @@ private:
             scratch.extents.resize(n);
         }
         std::copy(tris.begin(), tris.end(), scratch.tris.begin());
-        // The parent's extents (each marked known or not), or none: then all are clipped.
-        const std::size_t known = std::min(n, extents.size());
-        std::copy_n(extents.begin(), known, scratch.extents.begin());
-        std::fill_n(scratch.extents.begin() + static_cast<std::ptrdiff_t>(known), n - known,
-                    TriExtent{});
+        // The parent's extents, each marked known or not.
+        std::copy_n(extents.begin(), n, scratch.extents.begin());
         Fragment& out = workspace.out;
         out.nodes.clear();
         out.cells.clear();
@@ -589,13 +597,13 @@ private:
         return CellRef::make_leaf(first);
     }
 
-    // The rest of build_cell for a node planned as `plan` and `split`: hands its triangles to
-    // the cells, calls `release` (which frees the node's stored extents) and builds the cells
-    // in parallel.
+    // The rest of build_cell (and build_root) for a node planned as `plan` and `split`: hands
+    // its triangles to the cells, calls `release` (which frees the node's stored extents) and
+    // builds the cells in parallel.
     template <class Extents, class Release>
-    BuiltCell split_node(const Aabb& box, const Plan& plan, Split& split,
-                         TriangleIds tris, const Extents& extents,
-                         const Release& release, double weight, std::uint32_t kept_all)
+    BuiltCell split_node(const Aabb& box, const Plan& plan, Split& split, TriangleIds tris,
+                         const Extents& extents, const Release& release, double weight,
+                         std::uint32_t kept_all)
     {
         const std::size_t n = tris.size();
         const int axis = split.axis;
@@ -603,39 +611,9 @@ private:
         const CellMath cm(split.lo, split.hi, resolution);
         std::size_t total_refs = 0;
         for (std::uint32_t c : split.counts) total_refs += c;
-        // The triangles are handed out in parallel, in the blocks try_split counted them in:
-        // each block writes what it gives a cell after what the blocks before it gave, so that
-        // a cell's triangles keep this node's order whatever the thread count. The children
-        // clip the straddling triangles in parallel, each to its own box (distribute).
-        const std::size_t blocks = grain_blocks(n);
-        std::vector<std::uint32_t> next(blocks * resolution);
-        std::vector<std::uint32_t> given(resolution, 0);
-        for (std::size_t b = 0; b < blocks; ++b) {
-            const std::uint32_t* differences = split.block_counts.data() + b * (resolution + 1);
-            std::uint32_t count = 0;
-            for (std::uint32_t c = 0; c < resolution; ++c) {
-                count += differences[c];
-                next[b * resolution + c] = given[c];
-                given[c] += count;
-            }
-        }
         std::vector<TriangleIds> cell_tris(resolution);
         std::vector<ExtentArray> cell_extents(resolution);
-        tbb::parallel_for(std::uint32_t{0}, resolution, [&](std::uint32_t c) {
-            cell_tris[c].resize(split.counts[c]);
-            cell_extents[c].resize(split.counts[c]);
-        });
-        tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-            std::uint32_t* at = next.data() + b * resolution;
-            const auto [begin, end] = grain_block(b, n);
-            std::vector<Aabbd> unused;
-            distribute(box, plan, split, tris.data(), extents, begin, end, nullptr, unused,
-                       [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
-                           const std::uint32_t to = at[c]++;
-                           cell_tris[c][to] = tris[k];
-                           cell_extents[c][to] = e;
-                       });
-        });
+        hand_out(box, plan, split, tris, extents, cell_tris, cell_extents);
         tris = {};
         release();
         split = {};
@@ -662,6 +640,47 @@ private:
         return wrap(plan.bounds, std::move(cell));
     }
 
+    // Hands the triangles of a node of at least parallel_grain of them to its cells
+    // (distribute), in parallel, in the blocks try_split counted them in: each block writes
+    // what it gives a cell after what the blocks before it gave, so that a cell's triangles
+    // keep the node's order whatever the thread count. The cells' arrays are sized from the
+    // counts and left unwritten until then (UninitializedAllocator). The cells clip their
+    // straddling triangles themselves, in parallel, each to its own box.
+    template <class Extents>
+    void hand_out(const Aabb& box, const Plan& plan, const Split& split, const TriangleIds& tris,
+                  const Extents& extents, std::vector<TriangleIds>& cell_tris,
+                  std::vector<ExtentArray>& cell_extents) const
+    {
+        const std::uint32_t resolution = split.resolution;
+        const TriangleBlocks blocks(tris.size(), resolution);
+        // Where each block writes in each cell: after the blocks before it.
+        std::vector<std::uint32_t> next(blocks.count * resolution);
+        std::vector<std::uint32_t> given(resolution, 0);
+        for (std::size_t b = 0; b < blocks.count; ++b) {
+            const std::uint32_t* differences = split.block_counts.data() + b * (resolution + 1);
+            std::uint32_t count = 0;
+            for (std::uint32_t c = 0; c < resolution; ++c) {
+                count += differences[c];
+                next[b * resolution + c] = given[c];
+                given[c] += count;
+            }
+        }
+        tbb::parallel_for(std::uint32_t{0}, resolution, [&](std::uint32_t c) {
+            cell_tris[c].resize(split.counts[c]);
+            cell_extents[c].resize(split.counts[c]);
+        });
+        tbb::parallel_for(std::size_t{0}, blocks.count, [&](std::size_t b) {
+            std::uint32_t* at = next.data() + b * resolution;
+            const auto [begin, end] = blocks.range(b);
+            std::vector<Aabbd> unused;
+            distribute(box, plan, split, tris.data(), extents, begin, end, nullptr, unused,
+                       [&](std::uint32_t c, std::size_t k, const TriExtent& e) {
+                           const std::uint32_t to = at[c]++;
+                           cell_tris[c][to] = tris[k];
+                           cell_extents[c][to] = e;
+                       });
+        });
+    }
 
     // Clips the triangles whose extent in `box` is not known yet.
     void clip_unknown(const Aabb& box, const std::uint32_t* tris, TriExtent* extents,
@@ -783,8 +802,9 @@ private:
 
         // Cell range of each triangle: the cells whose padded slab its clipped extent touches
         // (none, first > last, for an empty one), and the cells' triangles counted in the same
-        // pass: by the node, or above parallel_grain by each block of triangles, in parallel
-        // (the blocks' counts are summed after, and tell split_node where each block writes).
+        // pass: by the node, or from parallel_grain triangles up by each block of them, in
+        // parallel (the blocks' counts are summed after, and tell hand_out where each block
+        // writes).
         split.first.resize(n);
         split.last.resize(n);
         // The counts are summed from differences (+1 at a triangle's first cell, -1 past its
@@ -803,8 +823,9 @@ private:
             for (std::size_t b = begin; b < end; b += block) {
                 const std::size_t m = std::min(block, end - b);
                 for (std::size_t j = 0; j < m; ++j) {
-                    lower[j] = extents[b + j].lower[axis] - pad_;
-                    upper[j] = extents[b + j].upper[axis] + pad_;
+                    const TriExtent& e = extents[b + j];
+                    lower[j] = e.lower[axis] - pad_;
+                    upper[j] = e.upper[axis] + pad_;
                 }
                 locate_cells(cm, lower.data(), upper.data(), m, split.first.data() + b,
                              split.last.data() + b);
@@ -821,13 +842,13 @@ private:
         if (n < parallel_grain) {
             locate(0, n, split.counts.data());
         } else {
-            const std::size_t blocks = grain_blocks(n);
-            split.block_counts.assign(blocks * stride, 0);
-            tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-                const auto [begin, end] = grain_block(b, n);
+            const TriangleBlocks blocks(n, split.resolution);
+            split.block_counts.assign(blocks.count * stride, 0);
+            tbb::parallel_for(std::size_t{0}, blocks.count, [&](std::size_t b) {
+                const auto [begin, end] = blocks.range(b);
                 locate(begin, end, split.block_counts.data() + b * stride);
             });
-            for (std::size_t b = 0; b < blocks; ++b)
+            for (std::size_t b = 0; b < blocks.count; ++b)
                 for (std::size_t c = 0; c < stride; ++c)
                     split.counts[c] += split.block_counts[b * stride + c];
         }
@@ -937,10 +958,11 @@ private:
 
     // The tight box (min and max are exact, so any order gives the same box, up to the sign
     // of a zero, which the pad added to each side of it erases) and the mean sizes, in one
-    // pass. Below parallel_grain triangles the sizes are summed in the triangles' order;
-    // above it in parallel, in blocks that the triangle count alone fixes, added in a fixed
-    // order (tbb::parallel_deterministic_reduce): either way the sums do not depend on the
-    // thread count.
+    // pass. Below parallel_grain triangles the sizes are summed in the triangles' order; from
+    // parallel_grain up in parallel, in pieces that the triangle count alone fixes (halved
+    // until at most parallel_grain), added in a fixed order
+    // (tbb::parallel_deterministic_reduce): either way the sums do not depend on the thread
+    // count.
     template <class Extents>
     ExtentSummary summarize(const Extents& extents) const
     {
