@@ -147,6 +147,17 @@ TYPED_TEST_P(BaselineOracle, ZeroDirectionComponentsAgreeWithBruteForce)
     expect_baseline_agrees(s, mesh, rays, 1000);
 }
 
+TYPED_TEST_P(BaselineOracle, RaysAtTheEdgesOfTheFloatRangeAgreeWithBruteForce)
+{
+    // Crossings near FLT_MAX on one axis or all (BoxRay and KernelRay::extreme), and windows
+    // and origins at the ends of the range.
+    const Mesh mesh = random_triangles(63, 2000, baseline_scene_box, 1.0f);
+    const auto s = build_checked_baseline<TypeParam>(mesh);
+    const std::vector<Ray> rays = float_range_edge_rays(64, 2000, baseline_scene_box, mesh.view());
+    for (const Ray& r : rays) ASSERT_TRUE(is_valid(r));
+    expect_baseline_agrees(s, mesh, rays, 2000);
+}
+
 TYPED_TEST_P(BaselineOracle, RaysOnStructurePlanesAgreeWithBruteForce)
 {
     const Mesh mesh = random_triangles(21, 2000, baseline_scene_box, 1.0f);
@@ -459,6 +470,7 @@ TYPED_TEST_P(BaselineOracle, QueryOptionsChooseTheTestAndPadding)
 
 REGISTER_TYPED_TEST_SUITE_P(BaselineOracle, RandomSoupsAgreeWithBruteForce,
                             RayWindowsAgreeWithBruteForce, ZeroDirectionComponentsAgreeWithBruteForce,
+                            RaysAtTheEdgesOfTheFloatRangeAgreeWithBruteForce,
                             RaysOnStructurePlanesAgreeWithBruteForce, PlanarSceneAndRaysInItsPlane,
                             TrianglesOnStructurePlanes, AxisPlanesAndAxisRaysThroughVertices,
                             RaysFromFarAwayThroughEdges,

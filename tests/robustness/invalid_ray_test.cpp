@@ -136,38 +136,7 @@ TEST(InvalidRays, ValidRaysAtTheEdgesOfTheFloatRangeAgreeWithBruteForce)
     const Aabb box{{0, 0, 0}, {10, 10, 10}};
     const Mesh mesh = random_triangles(63, 2000, box, 1.0f);
     const SplitGrid grid = build_checked(mesh);
-    std::vector<Ray> rays;
-    const auto aimed = rays_at_triangles(64, 2000, box, mesh.view());
-    for (const Ray& a : aimed) {
-        const Vec3f unit = normalize(a.direction);
-        // Huge and tiny direction lengths (t scales inversely), origins far away along the
-        // ray, negative t_min, empty windows [t, t], the largest finite t_max.
-        for (const float scale : {1e30f, 1e-30f, tiny * 4.0f, big / 4.0f}) {
-            Ray r = a;
-            r.direction = unit * scale;
-            rays.push_back(r);
-        }
-        Ray far = a;
-        far.origin = a.origin - unit * 1e30f;
-        far.direction = unit;
-        rays.push_back(far);
-        Ray window = a;
-        window.t_min = -big;
-        window.t_max = big;
-        rays.push_back(window);
-        window.t_min = window.t_max = 0.5f;
-        rays.push_back(window);
-    }
-    // Origins at +-FLT_MAX, looking back at the scene and away from it.
-    for (const float at : {big, -big})
-        for (int k = 0; k < 3; ++k) {
-            Ray r{{5, 5, 5}, {0, 0, 0}, 0.0f, inf};
-            r.origin[k] = at;
-            r.direction[k] = at > 0 ? -1.0f : 1.0f;
-            rays.push_back(r);
-            r.direction[k] = -r.direction[k];
-            rays.push_back(r);
-        }
+    const std::vector<Ray> rays = float_range_edge_rays(64, 2000, box, mesh.view());
     for (const Ray& r : rays) ASSERT_TRUE(is_valid(r));
     const OracleReport report = parallel_compare(grid, mesh.view(), rays);
     EXPECT_EQ(report.closest_disagreements, 0u) << report.first_failure;

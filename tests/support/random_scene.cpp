@@ -145,6 +145,49 @@ std::vector<Ray> rays_at_triangles(std::uint32_t seed, std::size_t count, const 
     return rays;
 }
 
+std::vector<Ray> float_range_edge_rays(std::uint32_t seed, std::size_t count, const Aabb& box,
+                                       const MeshView& mesh)
+{
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    constexpr float big = std::numeric_limits<float>::max();
+    constexpr float tiny = std::numeric_limits<float>::min();
+    std::vector<Ray> rays;
+    const std::vector<Ray> aimed = rays_at_triangles(seed, count, box, mesh);
+    for (std::size_t k = 0; k < aimed.size(); ++k) {
+        const Ray& a = aimed[k];
+        const Vec3f unit = normalize(a.direction);
+        for (const float scale : {1e30f, 1e-30f, tiny * 4.0f, big / 4.0f}) {
+            Ray r = a;
+            r.direction = unit * scale;
+            rays.push_back(r);
+        }
+        Ray thin = a;
+        thin.direction[static_cast<int>(k % 3)] = (k / 3) % 2 == 0 ? 8.0f * tiny : -8.0f * tiny;
+        rays.push_back(thin);
+        Ray far = a;
+        far.origin = a.origin - unit * 1e30f;
+        far.direction = unit;
+        rays.push_back(far);
+        Ray window = a;
+        window.t_min = -big;
+        window.t_max = big;
+        rays.push_back(window);
+        window.t_min = window.t_max = 0.5f;
+        rays.push_back(window);
+    }
+    const Vec3f centre = (box.lower + box.upper) * 0.5f;
+    for (const float at : {big, -big})
+        for (int k = 0; k < 3; ++k) {
+            Ray r{centre, {0, 0, 0}, 0.0f, inf};
+            r.origin[k] = at;
+            r.direction[k] = at > 0 ? -1.0f : 1.0f;
+            rays.push_back(r);
+            r.direction[k] = -r.direction[k];
+            rays.push_back(r);
+        }
+    return rays;
+}
+
 std::vector<Ray> zero_direction_rays(std::uint32_t seed, std::size_t count, const Aabb& box,
                                      const Mesh& mesh)
 {

@@ -36,6 +36,15 @@ void append(Mesh& a, const Mesh& b);
 [[nodiscard]] std::vector<Ray> rays_at_triangles(std::uint32_t seed, std::size_t count,
                                                  const Aabb& box, const MeshView& mesh);
 
+/// Valid rays at the edges of the float range, from rays_at_triangles(seed, count, box, mesh):
+/// each with its direction scaled to lengths 1e30, 1e-30, 4 FLT_MIN and FLT_MAX / 4 (t scales
+/// inversely); with one direction component set to +-8 FLT_MIN (a crossing on that axis near
+/// FLT_MAX, the others ordinary); with its origin 1e30 back along the ray; with the window
+/// [-FLT_MAX, FLT_MAX] and the empty window [0.5, 0.5]; and rays from origins at +-FLT_MAX on
+/// each axis, looking back at `box`'s centre and away from it.
+[[nodiscard]] std::vector<Ray> float_range_edge_rays(std::uint32_t seed, std::size_t count,
+                                                     const Aabb& box, const MeshView& mesh);
+
 /// Random rays (random_rays(seed + 1, count, box)) with one or two direction components set
 /// to +0.0 or -0.0, a third of them aimed exactly through a vertex of `mesh` with the origin
 /// on the vertex's plane of the zeroed axis.
