@@ -1148,9 +1148,14 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
                         const BuildProgress& progress)
 {
     validate(config);
-    check_mesh(mesh);
     if (mesh.triangle_count() > std::size_t{max_referenced_triangle} + 1)
         throw InputError("mesh has more than 2^31 - 1 triangles");
+    // Every step runs in the build's arena, the mesh's check and box too (in parallel for a
+    // large mesh), so that `threads` bounds all of it.
+    tbb::task_arena arena(config.threads == 0 ? tbb::task_arena::automatic
+                                              : static_cast<int>(config.threads));
+    Aabb scene;
+    arena.execute([&] { scene = checked_bounds(mesh); });
 
     // The arrays are emptied, not freed: their memory is what a rebuild reuses.
     grid.nodes.clear();
@@ -1163,7 +1168,6 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
     grid.triangle_count = static_cast<std::uint32_t>(mesh.triangle_count());
     if (mesh.triangle_count() == 0) return;
 
-    const Aabb scene = bounds(mesh);
     const float pad = boundary_pad(scene);
     grid.root_box = scene;
     // Kept finite: next to +-FLT_MAX the pad is lost rather than turned into infinity.
@@ -1174,8 +1178,6 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
     }
 
     Builder builder(mesh, config, progress, pad);
-    tbb::task_arena arena(config.threads == 0 ? tbb::task_arena::automatic
-                                              : static_cast<int>(config.threads));
     BuiltCell root;
     arena.execute([&] {
         root = builder.build_root(grid.root_box);

@@ -4,6 +4,10 @@
 #include <array>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/partitioner.h>
+
 #include "splitgrid/error.hpp"
 #include "splitgrid/ray.hpp"
 
@@ -80,6 +84,49 @@ void check_mesh(const MeshView& mesh)
                                  std::to_string(t) + ") has a NaN or infinite coordinate");
         }
     }
+}
+
+Aabb checked_bounds(const MeshView& mesh)
+{
+    // The box of triangles [begin, end) and whether one of them fails check_mesh, without a
+    // branch per triangle: an index past the vertex array reads vertex 0 instead and marks the
+    // part bad, and a NaN or infinite coordinate turns `nonfinite` (a sum of coordinates times
+    // zero) into NaN. The box of a bad part is not used.
+    struct Part {
+        Aabb box;
+        float nonfinite = 0.0f;
+        bool bad = false;
+    };
+    const std::size_t nv = mesh.vertices.size();
+    if (nv == 0 && !mesh.triangles.empty()) check_mesh(mesh);  // throws: no vertex 0 to read
+    const auto scan = [&](const tbb::blocked_range<std::size_t>& r, Part part) {
+        for (std::size_t t = r.begin(); t != r.end(); ++t) {
+            for (std::uint32_t i : mesh.triangles[t].v) {
+                part.bad |= i >= nv;
+                const Vec3f p = mesh.vertices[i < nv ? i : 0];
+                part.nonfinite += p.x * 0.0f + p.y * 0.0f + p.z * 0.0f;
+                part.box.extend(p);
+            }
+        }
+        part.bad |= part.nonfinite != 0.0f;
+        return part;
+    };
+    const auto join = [](Part a, const Part& b) {
+        a.box.extend(b.box);
+        a.bad |= b.bad;
+        return a;
+    };
+    // Blocks joined left to right: min and max are exact, and a tie keeps the earlier
+    // operand, so the box is bounds()'s bit for bit (also the sign of a zero coordinate) for
+    // any thread count.
+    constexpr std::size_t block = 16384;
+    const std::size_t n = mesh.triangles.size();
+    const tbb::blocked_range<std::size_t> all(0, n, block);
+    const Part whole = n < 4 * block ? scan(all, Part{})
+                                     : tbb::parallel_deterministic_reduce(
+                                           all, Part{}, scan, join, tbb::simple_partitioner{});
+    if (whole.bad) check_mesh(mesh);  // throws the error of the first failing triangle
+    return whole.box;
 }
 
 CleanReport clean_mesh(Mesh& mesh)

@@ -2,6 +2,7 @@
 // mapping, the float steps, clipping against the separating-axis test, the watertight triangle test.
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <bit>
@@ -9,12 +10,14 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "splitgrid/aabb.hpp"
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/clip.hpp"
+#include "splitgrid/error.hpp"
 #include "splitgrid/float_step.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/ray_triangle.hpp"
@@ -391,6 +394,90 @@ TEST(Mesh, CleanDropsExactlyTheBadTriangles)
     EXPECT_EQ(r.bad_index_triangles, 1u);
     ASSERT_EQ(mesh.triangles.size(), 2u);
     EXPECT_EQ(mesh.triangles[1], (Triangle{{2, 1, 0}}));
+}
+
+// The message check_mesh throws for `mesh`, or "" if it passes.
+std::string check_mesh_error(const MeshView& mesh)
+{
+    try {
+        check_mesh(mesh);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// checked_bounds's message for `mesh` on `threads` threads, or "" if it passes; `box` is set
+// to its result when it passes.
+std::string checked_bounds_error(const MeshView& mesh, int threads, Aabb& box)
+{
+    std::string error;
+    tbb::task_arena(threads).execute([&] {
+        try {
+            box = checked_bounds(mesh);
+        } catch (const InputError& e) {
+            error = e.what();
+        }
+    });
+    return error;
+}
+
+TEST(Mesh, CheckedBoundsIsBoundsBitForBitAndFailsAsCheckMesh)
+{
+    std::mt19937 rng(91);
+    std::uniform_real_distribution<float> u(-5.0f, 5.0f);
+    for (const std::size_t n : {std::size_t{1000}, std::size_t{300000}}) {  // serial, parallel
+        Mesh mesh;
+        std::uniform_real_distribution<float> above(1.0f, 5.0f);
+        for (std::size_t k = 0; k < 3 * n / 2; ++k)
+            mesh.vertices.push_back({u(rng), u(rng), above(rng)});
+        // The lowest z is a zero of either sign; -0 is met first (triangle 0), +0 in a later
+        // block, and the box keeps the first.
+        mesh.vertices[n / 3] = {1.0f, -7.0f, -0.0f};
+        mesh.vertices[n / 2] = {2.0f, 7.0f, 0.0f};
+        std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(n - 1));
+        for (std::size_t t = 0; t < n; ++t) {
+            Triangle tri{{pick(rng), pick(rng), pick(rng)}};
+            for (std::uint32_t& i : tri.v)
+                if (i == n / 3 || i == n / 2) i = 0;
+            mesh.triangles.push_back(tri);
+        }
+        mesh.triangles[0].v[1] = static_cast<std::uint32_t>(n / 3);
+        mesh.triangles[3 * n / 4].v[2] = static_cast<std::uint32_t>(n / 2);
+        // Unreferenced vertices, far out and one not finite: ignored by both.
+        mesh.vertices[n + 1] = {1e30f, -1e30f, 1e30f};
+        mesh.vertices[n + 2] = {std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f};
+        const Aabb expected = bounds(mesh.view());
+        ASSERT_EQ(expected.upper.y, 7.0f);
+        ASSERT_TRUE(std::signbit(expected.lower.z));
+        for (const int threads : {1, 2, 4}) {
+            Aabb box;
+            ASSERT_EQ(checked_bounds_error(mesh.view(), threads, box), "");
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_EQ(std::bit_cast<std::uint32_t>(box.lower[k]),
+                          std::bit_cast<std::uint32_t>(expected.lower[k]));
+                EXPECT_EQ(std::bit_cast<std::uint32_t>(box.upper[k]),
+                          std::bit_cast<std::uint32_t>(expected.upper[k]));
+            }
+        }
+        // Two bad triangles: the first in the mesh's order is named, as check_mesh names it.
+        for (int kind = 0; kind < 2; ++kind) {
+            Mesh bad = mesh;
+            if (kind == 0) {
+                bad.triangles[n - 5].v[0] = static_cast<std::uint32_t>(bad.vertices.size());
+                bad.triangles[n / 5].v[2] = static_cast<std::uint32_t>(bad.vertices.size() + 7);
+            } else {
+                bad.vertices[bad.triangles[n - 5].v[1]].z = std::numeric_limits<float>::infinity();
+                bad.vertices[bad.triangles[n / 5].v[0]].x = std::numeric_limits<float>::quiet_NaN();
+            }
+            const std::string expected_error = check_mesh_error(bad.view());
+            ASSERT_NE(expected_error, "");
+            for (const int threads : {1, 2}) {
+                Aabb box;
+                EXPECT_EQ(checked_bounds_error(bad.view(), threads, box), expected_error);
+            }
+        }
+    }
 }
 
 }  // namespace

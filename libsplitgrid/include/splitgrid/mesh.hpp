@@ -47,6 +47,13 @@ struct Mesh {
 /// referenced vertex with a NaN or infinite coordinate. Cost: one pass over the triangles.
 void check_mesh(const MeshView& mesh);
 
+/// check_mesh and bounds in one pass: the bounding box of the referenced vertices, after the
+/// checks of check_mesh (the same InputError, for the same first triangle). Reads each
+/// triangle's corners once; a mesh of 65,536 triangles or more is read in parallel, in blocks
+/// whose boxes are joined in a fixed order, on the calling thread's oneTBB arena, so the
+/// builders call it inside theirs and their thread count bounds it.
+[[nodiscard]] Aabb checked_bounds(const MeshView& mesh);
+
 /// Counts of what `clean_mesh` removed.
 struct CleanReport {
     std::size_t bad_index_triangles = 0;  ///< an index past the vertex array

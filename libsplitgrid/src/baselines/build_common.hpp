@@ -44,13 +44,16 @@ namespace sg::detail {
     return box;
 }
 
-/// Checks what every build requires of its mesh (check_mesh, and ids that fit in 32 bits
-/// with one value to spare); throws InputError naming the structure otherwise.
-inline void check_build_input(const MeshView& mesh, const char* structure)
+/// Checks what every build requires of its mesh (ids that fit in 32 bits with one value to
+/// spare, and check_mesh's checks) and returns the scene's box (checked_bounds); throws
+/// InputError otherwise, naming the structure for the count. Called inside the build's arena
+/// (run_with_threads), as the Split Grid's builder calls checked_bounds, so that the build's
+/// thread count bounds it.
+[[nodiscard]] inline Aabb checked_build_bounds(const MeshView& mesh, const char* structure)
 {
-    check_mesh(mesh);
     if (mesh.triangle_count() >= std::numeric_limits<std::uint32_t>::max())
         throw InputError(std::string(structure) + ": the mesh has 2^32 - 1 triangles or more");
+    return checked_bounds(mesh);
 }
 
 /// Runs `work` in a oneTBB arena of `threads` workers (0 = all hardware threads), as

@@ -407,15 +407,13 @@ void BvhConfig::validate() const
 Bvh Bvh::build(const MeshView& mesh, const BvhConfig& config)
 {
     config.validate();
-    detail::check_build_input(mesh, "BVH");
     Bvh bvh;
-    bvh.triangle_count_ = static_cast<std::uint32_t>(mesh.triangle_count());
-    if (mesh.triangle_count() == 0) return bvh;
-
-    const float pad = boundary_pad(bounds(mesh));
     Subtree built;
     detail::run_with_threads(config.threads, [&] {
-        BvhBuilder builder(config, mesh, pad);
+        const Aabb scene = detail::checked_build_bounds(mesh, "BVH");
+        bvh.triangle_count_ = static_cast<std::uint32_t>(mesh.triangle_count());
+        if (mesh.triangle_count() == 0) return;
+        BvhBuilder builder(config, mesh, boundary_pad(scene));
         built = builder.build_all();
         bvh.refs_ = builder.refs();
     });
@@ -426,13 +424,13 @@ Bvh Bvh::build(const MeshView& mesh, const BvhConfig& config)
 
 void Bvh::refit(const MeshView& mesh, unsigned threads)
 {
-    detail::check_build_input(mesh, "BVH refit");
-    if (mesh.triangle_count() != triangle_count_)
-        throw InputError("BVH refit: the mesh has " + std::to_string(mesh.triangle_count()) +
-                         " triangles, the BVH was built on " + std::to_string(triangle_count_));
-    if (nodes_.empty()) return;
-    const float pad = boundary_pad(bounds(mesh));
     detail::run_with_threads(threads, [&] {
+        const Aabb scene = detail::checked_build_bounds(mesh, "BVH refit");
+        if (mesh.triangle_count() != triangle_count_)
+            throw InputError("BVH refit: the mesh has " + std::to_string(mesh.triangle_count()) +
+                             " triangles, the BVH was built on " + std::to_string(triangle_count_));
+        if (nodes_.empty()) return;
+        const float pad = boundary_pad(scene);
         // Leaves first, in parallel: each reads only its own triangles.
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes_.size(), 4096),
                           [&](const tbb::blocked_range<std::size_t>& r) {

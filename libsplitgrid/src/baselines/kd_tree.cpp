@@ -357,17 +357,15 @@ std::uint32_t KdTreeConfig::depth_limit(std::size_t triangles) const noexcept
 KdTree KdTree::build(const MeshView& mesh, const KdTreeConfig& config)
 {
     config.validate();
-    detail::check_build_input(mesh, "kd-tree");
     KdTree tree;
-    tree.triangle_count_ = static_cast<std::uint32_t>(mesh.triangle_count());
-    if (mesh.triangle_count() == 0) return tree;
-
-    const Aabb scene = bounds(mesh);
-    const float pad = boundary_pad(scene);
-    tree.box_ = detail::padded_root_box(scene, pad);
-    const KdBuilder builder(mesh, config, pad, config.depth_limit(mesh.triangle_count()));
     Subtree built;
     detail::run_with_threads(config.threads, [&] {
+        const Aabb scene = detail::checked_build_bounds(mesh, "kd-tree");
+        tree.triangle_count_ = static_cast<std::uint32_t>(mesh.triangle_count());
+        if (mesh.triangle_count() == 0) return;
+        const float pad = boundary_pad(scene);
+        tree.box_ = detail::padded_root_box(scene, pad);
+        const KdBuilder builder(mesh, config, pad, config.depth_limit(mesh.triangle_count()));
         built = builder.build(builder.root_prims(tree.box_), tree.box_, 0);
     });
     tree.nodes_ = std::move(built.nodes);

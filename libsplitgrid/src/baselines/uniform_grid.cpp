@@ -163,12 +163,13 @@ std::array<std::uint32_t, 3> grid_resolution(const Aabb& scene, std::size_t tria
 UniformGrid UniformGrid::build(const MeshView& mesh, const UniformGridConfig& config)
 {
     config.validate();
-    detail::check_build_input(mesh, "uniform grid");
+    Aabb scene;
+    detail::run_with_threads(config.threads,
+                             [&] { scene = detail::checked_build_bounds(mesh, "uniform grid"); });
     UniformGrid grid;
     grid.triangle_count_ = static_cast<std::uint32_t>(mesh.triangle_count());
     if (mesh.triangle_count() == 0) return grid;
 
-    const Aabb scene = bounds(mesh);
     const float pad = boundary_pad(scene);
     grid.box_ = detail::padded_root_box(scene, pad);
     const bool fixed = config.resolution[0] > 0;
