@@ -220,9 +220,11 @@ TEST(BvhRefit, RefusesAnotherMeshOrABadOne)
     Bvh bvh = Bvh::build(mesh.view());
     Mesh fewer = mesh;
     fewer.triangles.pop_back();
+    const Bvh before = bvh;
     EXPECT_THROW(bvh.refit(fewer.view()), InputError);
     mesh.vertices[3].x = std::numeric_limits<float>::quiet_NaN();
     EXPECT_THROW(bvh.refit(mesh.view()), InputError);
+    EXPECT_EQ(bvh, before);  // a refused refit leaves the BVH as it was
 }
 
 }  // namespace

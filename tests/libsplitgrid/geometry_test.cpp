@@ -424,6 +424,12 @@ std::string checked_bounds_error(const MeshView& mesh, int threads, Aabb& box)
 
 TEST(Mesh, CheckedBoundsIsBoundsBitForBitAndFailsAsCheckMesh)
 {
+    // Triangles and no vertices: refused, without reading a vertex.
+    Mesh empty;
+    empty.triangles = {Triangle{{0, 0, 0}}};
+    Aabb unused;
+    EXPECT_NE(checked_bounds_error(empty.view(), 1, unused), "");
+
     std::mt19937 rng(91);
     std::uniform_real_distribution<float> u(-5.0f, 5.0f);
     for (const std::size_t n : {std::size_t{1000}, std::size_t{300000}}) {  // serial, parallel
@@ -460,7 +466,8 @@ TEST(Mesh, CheckedBoundsIsBoundsBitForBitAndFailsAsCheckMesh)
                           std::bit_cast<std::uint32_t>(expected.upper[k]));
             }
         }
-        // Two bad triangles: the first in the mesh's order is named, as check_mesh names it.
+        // Two bad triangles, or two bad vertices: the first bad triangle in the mesh's order
+        // is named, as check_mesh names it.
         for (int kind = 0; kind < 2; ++kind) {
             Mesh bad = mesh;
             if (kind == 0) {
@@ -470,9 +477,17 @@ TEST(Mesh, CheckedBoundsIsBoundsBitForBitAndFailsAsCheckMesh)
                 bad.vertices[bad.triangles[n - 5].v[1]].z = std::numeric_limits<float>::infinity();
                 bad.vertices[bad.triangles[n / 5].v[0]].x = std::numeric_limits<float>::quiet_NaN();
             }
+            std::size_t first = 0;  // the first triangle with a bad index or corner
+            while (std::none_of(bad.triangles[first].v.begin(), bad.triangles[first].v.end(),
+                                [&](std::uint32_t i) {
+                                    return i >= bad.vertices.size() || !is_finite(bad.vertices[i]);
+                                }))
+                ++first;
+            const std::string named = kind == 0 ? "triangle " + std::to_string(first) + " has"
+                                                : "(of triangle " + std::to_string(first) + ")";
             const std::string expected_error = check_mesh_error(bad.view());
-            ASSERT_NE(expected_error, "");
-            for (const int threads : {1, 2}) {
+            ASSERT_NE(expected_error.find(named), std::string::npos) << expected_error;
+            for (const int threads : {1, 2, 4}) {
                 Aabb box;
                 EXPECT_EQ(checked_bounds_error(bad.view(), threads, box), expected_error);
             }

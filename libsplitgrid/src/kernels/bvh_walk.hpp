@@ -54,8 +54,9 @@ struct BoxRay {
         // overflowed pad, which is infinite as on a parallel axis).
         constexpr float unsafe_pad = 0x1p106f;
         for (int k = 0; k < 3; ++k) {
-            const auto lower = static_cast<std::uint32_t>(offsetof(Aabb, lower) + k * sizeof(float));
-            const auto upper = static_cast<std::uint32_t>(offsetof(Aabb, upper) + k * sizeof(float));
+            const std::size_t along = k * sizeof(float);
+            const auto lower = static_cast<std::uint32_t>(offsetof(Aabb, lower) + along);
+            const auto upper = static_cast<std::uint32_t>(offsetof(Aabb, upper) + along);
             near_plane[k] = ray.negative[k] ? upper : lower;
             far_plane[k] = ray.negative[k] ? lower : upper;
             if (ray.parallel[k] || !(ray.pad[k] < unsafe_pad)) {
@@ -88,9 +89,14 @@ struct BoxRay {
 [[nodiscard, gnu::always_inline]] inline float box_entry(const BoxRay& ray, const Aabb& box,
                                                          float t0, float t1) noexcept
 {
+    // Operand order matters: on an unconstrained axis an infinite plane (a padded box next to
+    // FLT_MAX) times scale 0 is NaN, and std::max and std::min return their first operand when
+    // the second is NaN, so the axis then leaves the interval as it was.
     for (int k = 0; k < 3; ++k) {
-        t0 = std::max(t0, plane_at(box, ray.near_plane[k]) * ray.scale[k] + ray.near_offset[k]);
-        t1 = std::min(t1, plane_at(box, ray.far_plane[k]) * ray.scale[k] + ray.far_offset[k]);
+        const float near = plane_at(box, ray.near_plane[k]) * ray.scale[k] + ray.near_offset[k];
+        const float far = plane_at(box, ray.far_plane[k]) * ray.scale[k] + ray.far_offset[k];
+        t0 = std::max(t0, near);
+        t1 = std::min(t1, far);
     }
     return t0 <= t1 ? t0 : std::numeric_limits<float>::infinity();
 }
@@ -135,10 +141,11 @@ inline void walk_bvh(const Bvh& bvh, const MeshArrays& mesh, const KernelRay& ra
             const auto flip = static_cast<std::uint32_t>(ray.negative[node.axis()]);
             const std::uint32_t near_child = node.first_child() + flip;
             const std::uint32_t far_child = node.first_child() + 1 - flip;
+            const float best = search.best_t();
             const float t_near =
-                box_entry<padding>(ray, widened, nodes[near_child].bounds, ray.t_min, search.best_t());
+                box_entry<padding>(ray, widened, nodes[near_child].bounds, ray.t_min, best);
             const float t_far =
-                box_entry<padding>(ray, widened, nodes[far_child].bounds, ray.t_min, search.best_t());
+                box_entry<padding>(ray, widened, nodes[far_child].bounds, ray.t_min, best);
             if (t_near != miss) {
                 if (t_far != miss) {
                     SG_ASSERT(sp < stack.size());
