@@ -54,7 +54,7 @@ struct BoxRay {
         // overflowed pad, which is infinite as on a parallel axis).
         constexpr float unsafe_pad = 0x1p106f;
         for (int k = 0; k < 3; ++k) {
-            const std::size_t along = k * sizeof(float);
+            const std::size_t along = static_cast<std::size_t>(k) * sizeof(float);
             const auto lower = static_cast<std::uint32_t>(offsetof(Aabb, lower) + along);
             const auto upper = static_cast<std::uint32_t>(offsetof(Aabb, upper) + along);
             near_plane[k] = ray.negative[k] ? upper : lower;
