@@ -1127,13 +1127,24 @@ CellRef flatten(BuiltCell& cell, SplitGrid& grid)
 
 }  // namespace
 
-float boundary_pad(const Aabb& root_box) noexcept
+float boundary_pad(const Aabb& scene) noexcept
 {
     float magnitude = 0.0f;
     for (int k = 0; k < 3; ++k)
-        magnitude = std::max({magnitude, std::abs(root_box.lower[k]), std::abs(root_box.upper[k])});
+        magnitude = std::max({magnitude, std::abs(scene.lower[k]), std::abs(scene.upper[k])});
     // Never below a normal float, so the pad survives being added to coordinates near zero.
     return std::max(magnitude * 0x1p-17f, std::numeric_limits<float>::min() * 64.0f);
+}
+
+Aabb padded_root_box(const Aabb& scene, float pad) noexcept
+{
+    constexpr float float_max = std::numeric_limits<float>::max();
+    Aabb box;
+    for (int k = 0; k < 3; ++k) {
+        box.lower[k] = std::max(-float_max, scene.lower[k] - pad);
+        box.upper[k] = std::min(float_max, scene.upper[k] + pad);
+    }
+    return box;
 }
 
 SplitGrid build_split_grid(const MeshView& mesh, const BuildConfig& config,
@@ -1169,13 +1180,7 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
     if (mesh.triangle_count() == 0) return;
 
     const float pad = boundary_pad(scene);
-    grid.root_box = scene;
-    // Kept finite: next to +-FLT_MAX the pad is lost rather than turned into infinity.
-    constexpr float float_max = std::numeric_limits<float>::max();
-    for (int k = 0; k < 3; ++k) {
-        grid.root_box.lower[k] = std::max(-float_max, scene.lower[k] - pad);
-        grid.root_box.upper[k] = std::min(float_max, scene.upper[k] + pad);
-    }
+    grid.root_box = padded_root_box(scene, pad);
 
     Builder builder(mesh, config, progress, pad);
     BuiltCell root;

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
+#include "splitgrid/baselines/kd_tree.hpp"
+#include "splitgrid/baselines/uniform_grid.hpp"
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/stats.hpp"
@@ -31,6 +34,38 @@ TEST(Builder, OutputIsIdenticalForEveryThreadCount)
         config.threads = threads;
         const SplitGrid other = build_split_grid(mesh.view(), config);
         EXPECT_TRUE(other == one) << "threads = " << threads;
+    }
+}
+
+// The Split Grid, the kd-tree and the uniform grid are built in the same box: the scene's
+// bounding box widened by its boundary_pad on each side, computed here from the corners, and
+// kept finite where a coordinate lies at +-FLT_MAX (widened, it would round to an infinity).
+// The expectation is the rule itself, so this guards the rule and its one implementation; it
+// does not check that the structures built at +-FLT_MAX trace correctly.
+TEST(Builder, GridsAndKdTreeAreBuiltInTheScenesBoxPaddedAndKeptFinite)
+{
+    constexpr float float_max = std::numeric_limits<float>::max();
+    Mesh huge;
+    huge.vertices = {{-float_max, 0.0f, 0.0f}, {float_max, 1.0f, 0.0f}, {0.0f, 2.0f, 3.0f}};
+    huge.triangles = {Triangle{{0, 1, 2}}};
+    for (const Mesh& mesh : {test::random_triangles(5, 2000, box10, 0.3f), huge}) {
+        Aabb scene;
+        for (const Vec3f& v : mesh.vertices) scene.extend(v);
+        const float pad = boundary_pad(scene);
+        Aabb expected;
+        for (int k = 0; k < 3; ++k) {
+            const float lower = scene.lower[k] - pad;
+            const float upper = scene.upper[k] + pad;
+            expected.lower[k] = std::isinf(lower) ? -float_max : lower;
+            expected.upper[k] = std::isinf(upper) ? float_max : upper;
+        }
+        const Aabb boxes[] = {build_checked(mesh, {}).root_box, KdTree::build(mesh.view()).box(),
+                              UniformGrid::build(mesh.view()).box()};
+        for (const Aabb& box : boxes)
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_EQ(box.lower[k], expected.lower[k]) << "axis " << k;
+                EXPECT_EQ(box.upper[k], expected.upper[k]) << "axis " << k;
+            }
     }
 }
 

@@ -18,8 +18,8 @@ using BuildProgress = std::function<void(double fraction_done)>;
 ///   node's box (the poster says "longest axis of the node's box"; the tight box avoids
 ///   splitting an axis along which everything is flat or empty).
 /// - The bounding planes lo, hi are the extent of those clipped triangles on the split axis.
-/// - A triangle is referenced by every cell whose box, padded by
-///   `boundary_pad(grid.root_box)`, its clipped polygon touches (Sutherland-Hodgman in
+/// - A triangle is referenced by every cell whose box, padded by `boundary_pad` of the
+///   scene's bounding box, its clipped polygon touches (Sutherland-Hodgman in
 ///   double precision, rounded outward to floats; in subtrees below 4096 triangles a
 ///   straddling triangle is clipped once to its node's padded box and each cell's piece read
 ///   from that polygon, the same pieces up to double rounding: docs/SPLIT_GRID.md).
@@ -40,9 +40,15 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
                         const BuildProgress& progress = {});
 
 /// Absolute padding (scene units) added around every cell box when the builder decides which
-/// triangles a cell references: 2^-17 times the largest coordinate magnitude of the root box
-/// (64 float ulps). It absorbs the rounding of the watertight test, which may report a hit a
-/// few ulps outside a triangle's true extent.
-[[nodiscard]] float boundary_pad(const Aabb& root_box) noexcept;
+/// triangles a cell references: 2^-17 times the largest coordinate magnitude of `scene` (64
+/// float ulps), the scene's bounding box before padding, which every builder passes. It
+/// absorbs the rounding of the watertight test, which may report a hit a few ulps outside a
+/// triangle's true extent.
+[[nodiscard]] float boundary_pad(const Aabb& scene) noexcept;
+
+/// The box a structure is built in (SplitGrid::root_box, and the kd-tree's and the uniform
+/// grid's): the scene's bounding box widened by `pad` (its boundary_pad) on each side, kept
+/// finite next to +-FLT_MAX, where the pad is lost rather than turned into infinity.
+[[nodiscard]] Aabb padded_root_box(const Aabb& scene, float pad) noexcept;
 
 }  // namespace sg

@@ -2,7 +2,6 @@
 
 // Build-time helpers shared by the three comparison structures.
 
-#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -29,19 +28,6 @@ namespace sg::detail {
 [[nodiscard]] inline float float_above(double x) noexcept
 {
     return next_float_up(static_cast<float>(x));
-}
-
-/// The box every structure is built in: the scene's bounding box widened by `pad` on each
-/// side, kept finite next to +-FLT_MAX.
-[[nodiscard]] inline Aabb padded_root_box(const Aabb& scene, float pad) noexcept
-{
-    constexpr float float_max = std::numeric_limits<float>::max();
-    Aabb box;
-    for (int k = 0; k < 3; ++k) {
-        box.lower[k] = std::max(-float_max, scene.lower[k] - pad);
-        box.upper[k] = std::min(float_max, scene.upper[k] + pad);
-    }
-    return box;
 }
 
 /// Checks what every build requires of its mesh (ids that fit in 32 bits with one value to

@@ -1,5 +1,6 @@
 #include "splitgrid/baselines/kd_tree.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -364,7 +365,7 @@ KdTree KdTree::build(const MeshView& mesh, const KdTreeConfig& config)
         tree.triangle_count_ = static_cast<std::uint32_t>(mesh.triangle_count());
         if (mesh.triangle_count() == 0) return;
         const float pad = boundary_pad(scene);
-        tree.box_ = detail::padded_root_box(scene, pad);
+        tree.box_ = padded_root_box(scene, pad);
         const KdBuilder builder(mesh, config, pad, config.depth_limit(mesh.triangle_count()));
         built = builder.build(builder.root_prims(tree.box_), tree.box_, 0);
     });

@@ -1,5 +1,6 @@
 #include "splitgrid/baselines/uniform_grid.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -171,7 +172,7 @@ UniformGrid UniformGrid::build(const MeshView& mesh, const UniformGridConfig& co
     if (mesh.triangle_count() == 0) return grid;
 
     const float pad = boundary_pad(scene);
-    grid.box_ = detail::padded_root_box(scene, pad);
+    grid.box_ = padded_root_box(scene, pad);
     const bool fixed = config.resolution[0] > 0;
     grid.resolution_ = fixed ? config.resolution : grid_resolution(scene, mesh.triangle_count(), config);
     const std::size_t cells = std::size_t{grid.resolution_[0]} * grid.resolution_[1] * grid.resolution_[2];
