@@ -40,15 +40,17 @@ TEST(Builder, OutputIsIdenticalForEveryThreadCount)
 // The Split Grid, the kd-tree and the uniform grid are built in the same box: the scene's
 // bounding box widened by its boundary_pad on each side, computed here from the corners, and
 // kept finite where a coordinate lies at +-FLT_MAX (widened, it would round to an infinity).
-// The expectation is the rule itself, so this guards the rule and its one implementation; it
-// does not check that the structures built at +-FLT_MAX trace correctly.
+// The expectation is the rule itself, so this guards the rule and its one implementation; the
+// structures built in it must then give brute force's answers (at +-FLT_MAX: no crash, and
+// the misses brute force gives).
 TEST(Builder, GridsAndKdTreeAreBuiltInTheScenesBoxPaddedAndKeptFinite)
 {
     constexpr float float_max = std::numeric_limits<float>::max();
-    Mesh huge;
-    huge.vertices = {{-float_max, 0.0f, 0.0f}, {float_max, 1.0f, 0.0f}, {0.0f, 2.0f, 3.0f}};
-    huge.triangles = {Triangle{{0, 1, 2}}};
-    for (const Mesh& mesh : {test::random_triangles(5, 2000, box10, 0.3f), huge}) {
+    const Mesh huge{{{-float_max, 0.0f, 0.0f}, {float_max, 1.0f, 0.0f}, {0.0f, 2.0f, 3.0f}},
+                    {Triangle{{0, 1, 2}}}};
+    const Mesh ordinary = test::random_triangles(5, 2000, box10, 0.3f);
+    for (const Mesh* each : {&ordinary, &huge}) {
+        const Mesh& mesh = *each;
         Aabb scene;
         for (const Vec3f& v : mesh.vertices) scene.extend(v);
         const float pad = boundary_pad(scene);
@@ -59,13 +61,26 @@ TEST(Builder, GridsAndKdTreeAreBuiltInTheScenesBoxPaddedAndKeptFinite)
             expected.lower[k] = std::isinf(lower) ? -float_max : lower;
             expected.upper[k] = std::isinf(upper) ? float_max : upper;
         }
-        const Aabb boxes[] = {build_checked(mesh, {}).root_box, KdTree::build(mesh.view()).box(),
-                              UniformGrid::build(mesh.view()).box()};
-        for (const Aabb& box : boxes)
+        const SplitGrid grid = build_checked(mesh, {});
+        const KdTree tree = KdTree::build(mesh.view());
+        const UniformGrid uniform = UniformGrid::build(mesh.view());
+        for (const Aabb& box : {grid.root_box, tree.box(), uniform.box()})
             for (int k = 0; k < 3; ++k) {
                 EXPECT_EQ(box.lower[k], expected.lower[k]) << "axis " << k;
                 EXPECT_EQ(box.upper[k], expected.upper[k]) << "axis " << k;
             }
+        // And they answer as brute force does.
+        const auto rays = test::rays_at_triangles(6, 500, scene, mesh.view());
+        const test::OracleReport reports[] = {
+            test::compare_with_brute_force(grid, mesh.view(), rays),
+            test::compare_structure_with_brute_force(tree, mesh.view(), rays),
+            test::compare_structure_with_brute_force(uniform, mesh.view(), rays)};
+        for (const test::OracleReport& r : reports) {
+            EXPECT_EQ(r.closest_disagreements + r.any_hit_disagreements, 0u) << r.first_failure;
+            // The ordinary mesh's rays reach its triangles; at +-FLT_MAX the triangle test's
+            // products overflow, and brute force finds no hit either.
+            if (each == &ordinary) EXPECT_GT(r.hits, r.rays / 2);
+        }
     }
 }
 
