@@ -79,7 +79,9 @@ TEST(Builder, GridsAndKdTreeAreBuiltInTheScenesBoxPaddedAndKeptFinite)
             EXPECT_EQ(r.closest_disagreements + r.any_hit_disagreements, 0u) << r.first_failure;
             // The ordinary mesh's rays reach its triangles; at +-FLT_MAX the triangle test's
             // products overflow, and brute force finds no hit either.
-            if (each == &ordinary) EXPECT_GT(r.hits, r.rays / 2);
+            if (each == &ordinary) {
+                EXPECT_GT(r.hits, r.rays / 2);
+            }
         }
     }
 }
