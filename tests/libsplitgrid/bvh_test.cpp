@@ -63,6 +63,65 @@ struct BaselineTraits<Bvh> {
         }
         ASSERT_EQ(leaves, bvh.leaf_count());
         for (std::size_t t = 0; t < seen.size(); ++t) ASSERT_EQ(seen[t], 1) << "triangle " << t;
+        ASSERT_NO_FATAL_FAILURE(check_wide(bvh, mesh, pad));
+    }
+    // The tree the traversal walks, checked against the mesh alone: from the root, every wide
+    // node is reached once, every triangle once through a leaf slot whose box holds its
+    // padded box, every inner slot's box holds its wide node's boxes, and unused slots are
+    // empty and last.
+    static void check_wide(const Bvh& bvh, const MeshView& mesh, double pad)
+    {
+        const auto wide = bvh.wide_nodes();
+        if (bvh.nodes()[0].is_leaf()) {
+            ASSERT_TRUE(wide.empty());
+            return;
+        }
+        ASSERT_FALSE(wide.empty());
+        std::vector<int> reached(wide.size(), 0);
+        std::vector<int> seen(mesh.triangle_count(), 0);
+        std::vector<std::uint32_t> todo{0};
+        reached[0] = 1;
+        while (!todo.empty()) {
+            const BvhWideNode& w = wide[todo.back()];
+            todo.pop_back();
+            int used = 0;
+            for (int i = 0; i < BvhWideNode::width; ++i) {
+                if (!w.is_used(i)) {
+                    EXPECT_EQ(w.count[i], 0u);
+                    for (int k = 0; k < 3; ++k) EXPECT_GT(w.lower[k][i], w.upper[k][i]);
+                    continue;
+                }
+                ASSERT_EQ(used++, i) << "a used slot after an unused one";
+                if (w.is_leaf(i)) {
+                    ASSERT_LE(std::size_t{w.child[i]} + w.count[i], bvh.refs().size());
+                    for (std::uint32_t r = w.child[i]; r < w.child[i] + w.count[i]; ++r) {
+                        const std::uint32_t t = bvh.refs()[r];
+                        ASSERT_LT(t, mesh.triangle_count());
+                        ++seen[t];
+                        for (int corner = 0; corner < 3; ++corner)
+                            for (int k = 0; k < 3; ++k) {
+                                const double v = mesh.vertex(t, corner)[k];
+                                ASSERT_LE(double(w.lower[k][i]), v - pad) << "triangle " << t;
+                                ASSERT_GE(double(w.upper[k][i]), v + pad) << "triangle " << t;
+                            }
+                    }
+                    continue;
+                }
+                ASSERT_LT(w.child[i], wide.size());
+                ASSERT_EQ(reached[w.child[i]]++, 0) << "wide node " << w.child[i];
+                const BvhWideNode& c = wide[w.child[i]];
+                for (int j = 0; j < BvhWideNode::width; ++j)
+                    for (int k = 0; k < 3; ++k)
+                        if (c.is_used(j)) {
+                            ASSERT_LE(w.lower[k][i], c.lower[k][j]);
+                            ASSERT_GE(w.upper[k][i], c.upper[k][j]);
+                        }
+                todo.push_back(w.child[i]);
+            }
+            ASSERT_GE(used, 2);
+        }
+        for (std::size_t w = 0; w < wide.size(); ++w) ASSERT_EQ(reached[w], 1) << "wide node " << w;
+        for (std::size_t t = 0; t < seen.size(); ++t) ASSERT_EQ(seen[t], 1) << "triangle " << t;
     }
     static std::vector<std::pair<int, float>> planes(const Bvh& bvh)
     {
@@ -123,7 +182,9 @@ TEST(BvhBuild, LeavesRespectTheSizeLimits)
         if (n.is_leaf()) {
             EXPECT_LE(n.ref_count(), 4u);
         }
-    EXPECT_EQ(bvh.memory_bytes(), 4u + bvh.node_count() * 32u + 5000u * 4u);
+    // What a traversal reads: the wide nodes, the references and the root's box.
+    EXPECT_EQ(bvh.memory_bytes(),
+              4u + 32u + bvh.wide_nodes().size() * (32u * BvhWideNode::width) + 5000u * 4u);
     EXPECT_EQ(bvh.node_count(), 2 * bvh.leaf_count() - 1);
 }
 

@@ -419,7 +419,99 @@ Bvh Bvh::build(const MeshView& mesh, const BvhConfig& config)
     });
     bvh.nodes_ = std::move(built.nodes);
     bvh.depth_ = built.depth;
+    bvh.collapse();
     return bvh;
+}
+
+// Each wide node takes a binary inner node's two children and, while it has fewer than width,
+// opens the inner one of largest surface area (its children take its slot), so that the
+// boxes a ray is most likely to enter are tested together. Depth first, parents before
+// children, as the binary layout; a function of the binary tree alone.
+void Bvh::collapse()
+{
+    wide_.clear();
+    wide_source_.clear();
+    if (nodes_.size() <= 1) return;
+    constexpr int width = BvhWideNode::width;
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    struct Pending {
+        std::uint32_t wide;  // the wide node whose slot it fills
+        int slot;
+        std::uint32_t binary;  // the binary inner node it collapses
+    };
+    std::vector<Pending> pending{{0, -1, 0}};
+    while (!pending.empty()) {
+        const Pending p = pending.back();
+        pending.pop_back();
+        const auto index = static_cast<std::uint32_t>(wide_.size());
+        if (p.slot >= 0) wide_[p.wide].child[p.slot] = index;
+        std::array<std::uint32_t, width> slots{};
+        const std::uint32_t first = nodes_[p.binary].first_child();
+        slots[0] = first;
+        slots[1] = first + 1;
+        int used = 2;
+        while (used < width) {
+            int open = -1;
+            double open_area = -1.0;
+            for (int i = 0; i < used; ++i) {
+                const BvhNode& n = nodes_[slots[static_cast<std::size_t>(i)]];
+                if (n.is_leaf()) continue;
+                const double area = n.bounds.surface_area();
+                if (area > open_area) {
+                    open = i;
+                    open_area = area;
+                }
+            }
+            if (open < 0) break;
+            const std::uint32_t opened = nodes_[slots[static_cast<std::size_t>(open)]].first_child();
+            for (int i = used; i > open + 1; --i)
+                slots[static_cast<std::size_t>(i)] = slots[static_cast<std::size_t>(i - 1)];
+            slots[static_cast<std::size_t>(open)] = opened;
+            slots[static_cast<std::size_t>(open + 1)] = opened + 1;
+            ++used;
+        }
+        BvhWideNode wide{};
+        std::array<std::uint32_t, width> source{};
+        for (int i = 0; i < width; ++i) {
+            const auto s = static_cast<std::size_t>(i);
+            source[s] = i < used ? slots[s] : BvhWideNode::unused_slot;
+            for (int k = 0; k < 3; ++k) {
+                wide.lower[k][i] = inf;
+                wide.upper[k][i] = -inf;
+            }
+            wide.child[i] = BvhWideNode::unused_slot;
+            wide.count[i] = 0;
+            if (i >= used) continue;
+            const BvhNode& n = nodes_[slots[s]];
+            if (n.is_leaf()) {
+                wide.child[i] = n.first_ref();
+                wide.count[i] = n.ref_count();
+            }
+        }
+        wide_.push_back(wide);
+        wide_source_.push_back(source);
+        // Children in reverse, so that they are laid out in slot order.
+        for (int i = used; i-- > 0;)
+            if (!nodes_[slots[static_cast<std::size_t>(i)]].is_leaf())
+                pending.push_back({index, i, slots[static_cast<std::size_t>(i)]});
+    }
+    refit_wide();
+}
+
+// Copies every used slot's box from the binary node it holds.
+void Bvh::refit_wide() noexcept
+{
+    for (std::size_t w = 0; w < wide_.size(); ++w) {
+        for (int i = 0; i < BvhWideNode::width; ++i) {
+            const std::uint32_t source = wide_source_[w][static_cast<std::size_t>(i)];
+            if (source == BvhWideNode::unused_slot) continue;
+            const Aabb& box = nodes_[source].bounds;
+            for (int k = 0; k < 3; ++k) {
+                wide_[w].lower[k][i] = box.lower[k];
+                wide_[w].upper[k][i] = box.upper[k];
+            }
+        }
+    }
 }
 
 void Bvh::refit(const MeshView& mesh, unsigned threads)
@@ -453,6 +545,7 @@ void Bvh::refit(const MeshView& mesh, unsigned threads)
         box.extend(nodes_[node.first_child() + 1].bounds);
         node.bounds = box;
     }
+    refit_wide();
 }
 
 }  // namespace sg

@@ -45,6 +45,9 @@ struct BoxRay {
     /// more mispredicted branches per incoherent ray on the bunny, cachegrind).
     std::uint32_t near_plane[3];
     std::uint32_t far_plane[3];
+    /// The same choice in a BvhWideNode: byte offsets of its children's planes on each axis.
+    std::uint32_t near_wide[3];
+    std::uint32_t far_wide[3];
 
     explicit BoxRay(const KernelRay& ray) noexcept
     {
@@ -59,6 +62,12 @@ struct BoxRay {
             const auto upper = static_cast<std::uint32_t>(offsetof(Aabb, upper) + along);
             near_plane[k] = ray.negative[k] ? upper : lower;
             far_plane[k] = ray.negative[k] ? lower : upper;
+            const auto wide_lower = static_cast<std::uint32_t>(offsetof(BvhWideNode, lower) +
+                                                               BvhWideNode::width * along);
+            const auto wide_upper = static_cast<std::uint32_t>(offsetof(BvhWideNode, upper) +
+                                                               BvhWideNode::width * along);
+            near_wide[k] = ray.negative[k] ? wide_upper : wide_lower;
+            far_wide[k] = ray.negative[k] ? wide_lower : wide_upper;
             if (ray.parallel[k] || !(ray.pad[k] < unsafe_pad)) {
                 scale[k] = 0.0f;
                 near_offset[k] = -inf;
@@ -111,65 +120,169 @@ template <Padding padding>
     else return box_entry(widened, box, t0, t1);
 }
 
-/// Depth-first, nearer child first (by the direction's sign on the node's split axis);
-/// a pending subtree is skipped when its box starts past the closest hit so far.
-/// Counters: nodes_visited = inner nodes whose children were tested, cells_visited = leaves.
+/// One float or int per child of a BvhWideNode.
+typedef float wide_float __attribute__((vector_size(4 * BvhWideNode::width)));
+typedef std::int32_t wide_int __attribute__((vector_size(4 * BvhWideNode::width)));
+
+/// x in every lane.
+[[nodiscard, gnu::always_inline]] inline wide_float wide_splat(float x) noexcept
+{
+    wide_float v;
+    for (int i = 0; i < BvhWideNode::width; ++i) v[i] = x;
+    return v;
+}
+
+/// Bit i set where lane i of `mask` (0 or -1 per lane) is set. A template, so that only the
+/// branch of the configured width is compiled.
+template <class Mask>
+[[nodiscard, gnu::always_inline]] inline std::uint32_t wide_lane_bits(Mask mask) noexcept
+{
+    if constexpr (sizeof(Mask) == sizeof(vint)) {
+        return lane_bits(mask);
+    } else {
+        static_assert(sizeof(Mask) == sizeof(__m128));
+        return static_cast<std::uint32_t>(_mm_movemask_ps(__m128(mask)));
+    }
+}
+
+/// The children's planes at byte `offset` of `node` (near_wide, far_wide: chosen per ray, as
+/// in plane_at).
+[[nodiscard, gnu::always_inline]] inline wide_float planes_at(const BvhWideNode& node,
+                                                           std::uint32_t offset) noexcept
+{
+    wide_float v;
+    std::memcpy(&v, reinterpret_cast<const unsigned char*>(&node) + offset, sizeof v);
+    return v;
+}
+
+/// The children's entry parameters (box_entry and unpadded_box_entry lane by lane, with the
+/// same operations in the same order, so each lane's result is the scalar test's bit for bit:
+/// std::max(a, b) is written (a < b ? b : a) and std::min(a, b) (b < a ? b : a), which keep
+/// their first operand against a NaN as the scalar test relies on), and a bit per used child
+/// the ray enters within [t0, t1].
+template <Padding padding>
+[[nodiscard, gnu::always_inline]] inline std::uint32_t wide_box_entry(
+    const KernelRay& ray, const BoxRay& widened, const BvhWideNode& node, float t0_in, float t1_in,
+    wide_float& t_enter) noexcept
+{
+    wide_float t0 = wide_splat(t0_in);
+    wide_float t1 = wide_splat(t1_in);
+    for (int k = 0; k < 3; ++k) {
+        if constexpr (padding == Padding::none) {
+            wide_float lo, hi;
+            std::memcpy(&lo, node.lower[k], sizeof lo);
+            std::memcpy(&hi, node.upper[k], sizeof hi);
+            const float o = ray.origin[k], inv = ray.inv[k], pad = ray.pad[k];
+            const wide_float a = (lo - o) * inv;
+            const wide_float b = (hi - o) * inv;
+            const wide_float near = (b < a ? b : a) - pad;
+            const wide_float far = (a < b ? b : a) + pad;
+            t0 = t0 < near ? near : t0;
+            t1 = far < t1 ? far : t1;
+        } else {
+            const wide_float near = planes_at(node, widened.near_wide[k]) * widened.scale[k] +
+                                 widened.near_offset[k];
+            const wide_float far = planes_at(node, widened.far_wide[k]) * widened.scale[k] +
+                                widened.far_offset[k];
+            t0 = t0 < near ? near : t0;
+            t1 = far < t1 ? far : t1;
+        }
+    }
+    wide_int child;
+    std::memcpy(&child, node.child, sizeof child);
+    const wide_int hit = (t0 <= t1) & (child != static_cast<std::int32_t>(BvhWideNode::unused_slot));
+    t_enter = t0;
+    return wide_lane_bits(hit);
+}
+
+/// Depth first over the wide nodes (Bvh::wide_nodes), the children a ray enters visited
+/// nearest first (by their entry parameters; equal ones in slot order); a pending child is
+/// skipped when its box starts past the closest hit so far. Counters: nodes_visited = wide
+/// nodes whose children were tested, cells_visited = leaves.
 template <TriangleTest test, Padding padding, class Search>
 inline void walk_bvh(const Bvh& bvh, const MeshArrays& mesh, const KernelRay& ray,
                      Search& search) noexcept
 {
-    const std::span<const BvhNode> nodes = bvh.nodes();
-    if (nodes.empty()) return;
+    const std::span<const BvhNode> binary = bvh.nodes();
+    if (binary.empty()) return;
     constexpr float miss = std::numeric_limits<float>::infinity();
     const BoxRay widened(ray);
-    if (box_entry<padding>(ray, widened, nodes[0].bounds, ray.t_min, ray.t_max) == miss) return;
+    if (box_entry<padding>(ray, widened, binary[0].bounds, ray.t_min, ray.t_max) == miss) return;
     const std::uint32_t* const refs = bvh.refs().data();
     const std::uint32_t* const refs_end = refs + bvh.refs().size();
     NoMailbox no_mailbox;
+    if (binary[0].is_leaf()) {
+        search.count_cell();
+        (void)test_id_leaf<test>(ray, mesh, search, no_mailbox, refs + binary[0].first_ref(),
+                                 binary[0].ref_count(), refs_end);
+        return;
+    }
+    const BvhWideNode* const nodes = bvh.wide_nodes().data();
 
+    // A child to visit: its BvhWideNode child word in the low half of `target`, its count
+    // word (0 for a wide node) in the high half.
     struct Pending {
-        std::uint32_t node;
+        std::uint64_t target;
         float t_enter;
     };
-    std::array<Pending, bvh_max_supported_depth + 1> stack;  // only [0, sp) is read
+    auto target_of = [](const BvhWideNode& node, int i) noexcept {
+        return std::uint64_t{node.child[i]} | (std::uint64_t{node.count[i]} << 32);
+    };
+    // A wide node is at most as deep as the binary node it collapses, and each visit keeps
+    // at most width - 1 children.
+    constexpr std::size_t stack_size = (BvhWideNode::width - 1) * bvh_max_supported_depth + 1;
+    std::array<Pending, stack_size> stack;  // only [0, sp) is read
     std::size_t sp = 0;
-    std::uint32_t index = 0;
+    std::uint64_t next = 0;  // the root, a wide node
     for (;;) {
-        const BvhNode& node = nodes[index];
-        if (!node.is_leaf()) {
+        const auto child = static_cast<std::uint32_t>(next);
+        const auto count = static_cast<std::uint32_t>(next >> 32);
+        if (count == 0) {
+            const BvhWideNode& node = nodes[child];
             search.count_node();
-            const auto flip = static_cast<std::uint32_t>(ray.negative[node.axis()]);
-            const std::uint32_t near_child = node.first_child() + flip;
-            const std::uint32_t far_child = node.first_child() + 1 - flip;
-            const float best = search.best_t();
-            const float t_near =
-                box_entry<padding>(ray, widened, nodes[near_child].bounds, ray.t_min, best);
-            const float t_far =
-                box_entry<padding>(ray, widened, nodes[far_child].bounds, ray.t_min, best);
-            if (t_near != miss) {
-                if (t_far != miss) {
-                    SG_ASSERT(sp < stack.size());
-                    stack[sp++] = Pending{far_child, t_far};
+            wide_float t;
+            std::uint32_t hits = wide_box_entry<padding>(ray, widened, node, ray.t_min,
+                                                         search.best_t(), t);
+            if (hits != 0) {
+                const int first = __builtin_ctz(hits);
+                hits &= hits - 1;
+                if (hits == 0) {
+                    next = target_of(node, first);
+                    continue;
                 }
-                index = near_child;
-                continue;
-            }
-            if (t_far != miss) {
-                index = far_child;
+                // Nearest first: the entered children sorted by entry (insertion, stable, so
+                // ties keep slot order), all but the nearest pushed farthest first.
+                float entry[BvhWideNode::width];
+                std::memcpy(entry, &t, sizeof entry);
+                std::array<Pending, BvhWideNode::width> order;
+                order[0] = Pending{target_of(node, first), entry[first]};
+                std::size_t m = 1;
+                while (hits != 0) {
+                    const int i = __builtin_ctz(hits);
+                    hits &= hits - 1;
+                    const Pending p{target_of(node, i), entry[i]};
+                    std::size_t j = m++;
+                    for (; j > 0 && p.t_enter < order[j - 1].t_enter; --j) order[j] = order[j - 1];
+                    order[j] = p;
+                }
+                for (std::size_t j = m; j-- > 1;) {
+                    SG_ASSERT(sp < stack.size());
+                    stack[sp++] = order[j];
+                }
+                next = order[0].target;
                 continue;
             }
         } else {
             search.count_cell();
-            (void)test_id_leaf<test>(ray, mesh, search, no_mailbox, refs + node.first_ref(),
-                                     node.ref_count(), refs_end);
+            (void)test_id_leaf<test>(ray, mesh, search, no_mailbox, refs + child, count, refs_end);
             if (search.done()) return;
         }
-        // Next pending subtree whose box starts before the closest hit so far.
+        // Next pending child whose box starts before the closest hit so far.
         for (;;) {
             if (sp == 0) return;
-            const Pending& next = stack[--sp];
-            if (next.t_enter <= search.best_t()) {
-                index = next.node;
+            const Pending& p = stack[--sp];
+            if (p.t_enter <= search.best_t()) {
+                next = p.target;
                 break;
             }
         }

@@ -57,6 +57,19 @@ typedef std::int32_t vint __attribute__((vector_size(32)));
 #endif
 }
 
+/// Clears the upper halves of the 256- and 512-bit registers (vzeroupper; nothing in the
+/// SSE2 kernels). The batch drivers call it after every walk: GCC inserts it where a function
+/// that used them returns, but left it out of some exits of the wide BVH walk, and the next
+/// instructions compiled without AVX (is_valid, between two rays) then waited on the dirty
+/// registers: the BVH traced primary rays on the Stanford bunny at 5.4 Mrays/s instead of
+/// 11.4 (docs/BENCH.md, "Four boxes per step").
+[[gnu::always_inline]] inline void clear_upper_lanes() noexcept
+{
+#if SG_KERNEL_ISA_LEVEL >= 3
+    _mm256_zeroupper();
+#endif
+}
+
 /// ids[0, n) in lanes 0 .. n - 1 (as signed words; the ids are below 2^31), one vector load
 /// where the array holds lane_count words from `ids` on (`end` is the array's end); the other
 /// lanes are unspecified (valid words of the array, or 0).

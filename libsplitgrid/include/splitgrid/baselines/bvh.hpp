@@ -106,6 +106,30 @@ static_assert(sizeof(BvhNode) == 32 && alignof(BvhNode) == 4,
               "BvhNode must be 32 bytes (a 24-byte Aabb and two uint32) with no padding");
 static_assert(std::is_trivially_copyable_v<BvhNode>, "BvhNode is copied as bytes when merged");
 
+/// Eight children of the BVH side by side, 256 bytes (four cache lines): the binary tree
+/// collapsed so that a traversal step tests eight boxes at once, lane by lane in 8-wide vectors
+/// (docs/BASELINES.md, "BVH").
+///   offset   0  float[3][8]   lower   lower[k][i]: lower plane on axis k of child i
+///   offset  96  float[3][8]   upper
+///   offset 192  uint32[8]     child   inner child: index of its BvhWideNode; leaf child:
+///                                     first triangle reference; unused slot: unused_slot
+///   offset 224  uint32[8]     count   leaf child: number of references (>= 1); else 0
+/// Used slots come first; an unused slot's box is empty (lower +infinity, upper -infinity).
+struct alignas(64) BvhWideNode {
+    static constexpr int width = 8;
+    static constexpr std::uint32_t unused_slot = 0xFFFFFFFFu;
+
+    float lower[3][width];
+    float upper[3][width];
+    std::uint32_t child[width];
+    std::uint32_t count[width];
+
+    [[nodiscard]] bool is_used(int i) const noexcept { return child[i] != unused_slot; }
+    [[nodiscard]] bool is_leaf(int i) const noexcept { return count[i] != 0; }
+    friend bool operator==(const BvhWideNode&, const BvhWideNode&) = default;
+};
+static_assert(sizeof(BvhWideNode) == 32 * BvhWideNode::width, "BvhWideNode: no padding");
+
 /// A bounding volume hierarchy over the triangles' boxes, each padded by boundary_pad so that
 /// a hit the watertight test reports a few ulps outside its triangle is inside the leaf's box.
 /// Every triangle is referenced exactly once.
@@ -128,17 +152,24 @@ public:
     void refit(const MeshView& mesh, unsigned threads = 0);
 
     // Queries (intersect, occluded): StructureQueries (structure_queries.hpp), traversed by
-    // src/kernels/bvh_walk.hpp. Counters: nodes_visited = inner nodes whose children were
-    // tested, cells_visited = leaves.
+    // src/kernels/bvh_walk.hpp over the wide nodes. Counters: nodes_visited = wide nodes whose
+    // children were tested, cells_visited = leaves.
 
-    /// Bytes of the BVH itself: nodes and references (not the mesh).
+    /// Bytes a traversal reads (not the mesh): the wide nodes, the references and the root's
+    /// box (the whole tree when the root is a leaf). The binary nodes the wide ones were
+    /// collapsed from are kept for refit and inspection and not counted, as no query reads
+    /// them past the root.
     [[nodiscard]] std::size_t memory_bytes() const noexcept
     {
-        return sizeof(triangle_count_) + nodes_.size() * sizeof(BvhNode) +
+        if (nodes_.empty()) return sizeof(triangle_count_);
+        return sizeof(triangle_count_) + sizeof(BvhNode) + wide_.size() * sizeof(BvhWideNode) +
                refs_.size() * sizeof(std::uint32_t);
     }
 
     [[nodiscard]] std::span<const BvhNode> nodes() const noexcept { return nodes_; }
+    /// The tree the traversal walks: the binary nodes collapsed to up to BvhWideNode::width
+    /// children a node (root at 0); empty when the root is a leaf or the BVH is empty.
+    [[nodiscard]] std::span<const BvhWideNode> wide_nodes() const noexcept { return wide_; }
     [[nodiscard]] std::span<const std::uint32_t> refs() const noexcept { return refs_; }
     [[nodiscard]] std::size_t node_count() const noexcept { return nodes_.size(); }
     [[nodiscard]] std::size_t leaf_count() const noexcept { return (nodes_.size() + 1) / 2; }
@@ -154,6 +185,13 @@ private:
     std::uint32_t depth_ = 0;
     std::vector<BvhNode> nodes_;
     std::vector<std::uint32_t> refs_;
+    std::vector<BvhWideNode> wide_;
+    /// For each wide node's slot, the binary node it holds (refit copies its box); not read
+    /// by the traversal.
+    std::vector<std::array<std::uint32_t, BvhWideNode::width>> wide_source_;
+
+    void collapse();
+    void refit_wide() noexcept;
 };
 
 }  // namespace sg
