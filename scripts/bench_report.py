@@ -523,7 +523,8 @@ def main(argv):
     w("Mean traversal work per ray over the path workload (every ray, or an even stride of "
       "131,072 of them) "
       "(`TraversalCounters`: for the Split Grid nodes entered, cells stepped, triangles "
-      "tested; for the BVH inner nodes and leaves; for the kd-tree nodes and leaves; for the "
+      "tested; for the BVH wide nodes (up to eight children each) and leaves; for the kd-tree "
+      "nodes and leaves; for the "
       "uniform grid cells). This is what the timings come from.\n")
     head = ["scene"] + ["%s nodes / cells / tests" % label(n) for n in OURS if n in names]
     w("| " + " | ".join(head) + " |")
