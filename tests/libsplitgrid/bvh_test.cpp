@@ -16,74 +16,58 @@
 
 namespace sg::test {
 
+// Calls f(node, slot) for every used slot of every wide node.
+template <class F>
+void for_each_slot(const Bvh& bvh, const F& f)
+{
+    for (const BvhWideNode& node : bvh.wide_nodes())
+        for (int i = 0; i < BvhWideNode::width; ++i)
+            if (node.is_used(i)) f(node, i);
+}
+
+Aabb slot_box(const BvhWideNode& node, int i)
+{
+    return Aabb{{node.lower[0][i], node.lower[1][i], node.lower[2][i]},
+                {node.upper[0][i], node.upper[1][i], node.upper[2][i]}};
+}
+
 template <>
 struct BaselineTraits<Bvh> {
-    // Every triangle is referenced exactly once; every node's box holds its children's boxes,
-    // and every leaf's box holds its triangles' bounding boxes padded by boundary_pad.
+    // The tree against the mesh alone: from the root, every wide node is reached once and no
+    // deeper than the build's depth, every triangle once through a leaf slot whose box holds
+    // its padded box and is no more than one pad wider, every inner slot's box is the union
+    // of its node's slot boxes exactly (as is the BVH's box of the root's), used slots come
+    // first and unused ones are empty.
     static void check(const Bvh& bvh, const MeshView& mesh)
     {
         ASSERT_EQ(bvh.triangle_count(), mesh.triangle_count());
+        const auto wide = bvh.wide_nodes();
         if (mesh.triangle_count() == 0) {
+            ASSERT_TRUE(wide.empty());
             ASSERT_EQ(bvh.node_count(), 0u);
             return;
         }
-        const auto nodes = bvh.nodes();
-        const auto refs = bvh.refs();
-        ASSERT_EQ(refs.size(), mesh.triangle_count());
-        std::vector<int> seen(mesh.triangle_count(), 0);
-        const double pad = boundary_pad(bounds(mesh));
-        std::vector<std::uint32_t> depth(nodes.size(), 0);
-        std::size_t leaves = 0;
-        for (std::size_t i = 0; i < nodes.size(); ++i) {
-            const BvhNode& n = nodes[i];
-            if (!n.is_leaf()) {
-                ASSERT_GT(n.first_child(), i);
-                ASSERT_LT(n.first_child() + 1u, nodes.size());
-                for (std::uint32_t c = n.first_child(); c <= n.first_child() + 1; ++c) {
-                    ASSERT_TRUE(n.bounds.contains(nodes[c].bounds)) << "node " << c;
-                    depth[c] = depth[i] + 1;
-                }
-                continue;
-            }
-            ++leaves;
-            ASSERT_GE(n.ref_count(), 1u);
-            ASSERT_LE(std::size_t{n.first_ref()} + n.ref_count(), refs.size());
-            ASSERT_LE(depth[i], bvh.depth());
-            for (std::uint32_t r = n.first_ref(); r < n.first_ref() + n.ref_count(); ++r) {
-                const std::uint32_t t = refs[r];
-                ASSERT_LT(t, mesh.triangle_count());
-                ++seen[t];
-                for (int corner = 0; corner < 3; ++corner)
-                    for (int k = 0; k < 3; ++k) {
-                        const double v = mesh.vertex(t, corner)[k];
-                        ASSERT_LE(double(n.bounds.lower[k]), v - pad) << "triangle " << t;
-                        ASSERT_GE(double(n.bounds.upper[k]), v + pad) << "triangle " << t;
-                    }
-            }
-        }
-        ASSERT_EQ(leaves, bvh.leaf_count());
-        for (std::size_t t = 0; t < seen.size(); ++t) ASSERT_EQ(seen[t], 1) << "triangle " << t;
-        ASSERT_NO_FATAL_FAILURE(check_wide(bvh, mesh, pad));
-    }
-    // The tree the traversal walks, checked against the mesh alone: from the root, every wide
-    // node is reached once, every triangle once through a leaf slot whose box holds its
-    // padded box, every inner slot's box holds its wide node's boxes, and unused slots are
-    // empty and last.
-    static void check_wide(const Bvh& bvh, const MeshView& mesh, double pad)
-    {
-        const auto wide = bvh.wide_nodes();
-        if (bvh.nodes()[0].is_leaf()) {
-            ASSERT_TRUE(wide.empty());
-            return;
-        }
         ASSERT_FALSE(wide.empty());
+        ASSERT_EQ(bvh.refs().size(), mesh.triangle_count());
+        const double pad = boundary_pad(bounds(mesh));
+        auto union_of_slots = [](const BvhWideNode& w) {
+            Aabb box;
+            for (int j = 0; j < BvhWideNode::width; ++j)
+                if (w.is_used(j)) box.extend(slot_box(w, j));
+            return box;
+        };
+        ASSERT_EQ(bvh.box(), union_of_slots(wide[0]));
         std::vector<int> reached(wide.size(), 0);
+        std::vector<std::uint32_t> depth(wide.size(), 0);
         std::vector<int> seen(mesh.triangle_count(), 0);
+        std::size_t leaves = 0;
         std::vector<std::uint32_t> todo{0};
         reached[0] = 1;
         while (!todo.empty()) {
-            const BvhWideNode& w = wide[todo.back()];
+            const std::uint32_t index = todo.back();
             todo.pop_back();
+            const BvhWideNode& w = wide[index];
+            ASSERT_LE(depth[index], bvh.depth());
             int used = 0;
             for (int i = 0; i < BvhWideNode::width; ++i) {
                 if (!w.is_used(i)) {
@@ -93,44 +77,51 @@ struct BaselineTraits<Bvh> {
                 }
                 ASSERT_EQ(used++, i) << "a used slot after an unused one";
                 if (w.is_leaf(i)) {
+                    ++leaves;
                     ASSERT_LE(std::size_t{w.child[i]} + w.count[i], bvh.refs().size());
+                    Aabb tight;
                     for (std::uint32_t r = w.child[i]; r < w.child[i] + w.count[i]; ++r) {
                         const std::uint32_t t = bvh.refs()[r];
                         ASSERT_LT(t, mesh.triangle_count());
                         ++seen[t];
-                        for (int corner = 0; corner < 3; ++corner)
+                        for (int corner = 0; corner < 3; ++corner) {
+                            tight.extend(mesh.vertex(t, corner));
                             for (int k = 0; k < 3; ++k) {
                                 const double v = mesh.vertex(t, corner)[k];
                                 ASSERT_LE(double(w.lower[k][i]), v - pad) << "triangle " << t;
                                 ASSERT_GE(double(w.upper[k][i]), v + pad) << "triangle " << t;
                             }
+                        }
+                    }
+                    for (int k = 0; k < 3; ++k) {
+                        ASSERT_GE(double(w.lower[k][i]), double(tight.lower[k]) - 2.0 * pad);
+                        ASSERT_LE(double(w.upper[k][i]), double(tight.upper[k]) + 2.0 * pad);
                     }
                     continue;
                 }
                 ASSERT_LT(w.child[i], wide.size());
                 ASSERT_EQ(reached[w.child[i]]++, 0) << "wide node " << w.child[i];
-                const BvhWideNode& c = wide[w.child[i]];
-                for (int j = 0; j < BvhWideNode::width; ++j)
-                    for (int k = 0; k < 3; ++k)
-                        if (c.is_used(j)) {
-                            ASSERT_LE(w.lower[k][i], c.lower[k][j]);
-                            ASSERT_GE(w.upper[k][i], c.upper[k][j]);
-                        }
+                ASSERT_GT(w.child[i], index) << "a child before its parent";
+                ASSERT_EQ(slot_box(w, i), union_of_slots(wide[w.child[i]]));
+                depth[w.child[i]] = depth[index] + 1;
                 todo.push_back(w.child[i]);
             }
-            ASSERT_GE(used, 2);
+            // Two slots or more, but for a root that is a leaf.
+            ASSERT_TRUE(used >= 2 || (index == 0 && used == 1 && w.is_leaf(0)));
         }
         for (std::size_t w = 0; w < wide.size(); ++w) ASSERT_EQ(reached[w], 1) << "wide node " << w;
         for (std::size_t t = 0; t < seen.size(); ++t) ASSERT_EQ(seen[t], 1) << "triangle " << t;
+        ASSERT_EQ(leaves, bvh.leaf_count());
     }
     static std::vector<std::pair<int, float>> planes(const Bvh& bvh)
     {
         std::vector<std::pair<int, float>> p;
-        for (const BvhNode& n : bvh.nodes())
+        for_each_slot(bvh, [&](const BvhWideNode& node, int i) {
             for (int k = 0; k < 3; ++k) {
-                p.emplace_back(k, n.bounds.lower[k]);
-                p.emplace_back(k, n.bounds.upper[k]);
+                p.emplace_back(k, node.lower[k][i]);
+                p.emplace_back(k, node.upper[k][i]);
             }
+        });
         return p;
     }
     static BvhConfig stable_planes_config() { return {}; }
@@ -151,10 +142,9 @@ TEST(BvhBuild, IdenticalTrianglesGiveABalancedTree)
     mesh.triangles.assign(1000, Triangle{{0, 1, 2}});
     const Bvh bvh = build_checked_baseline<Bvh>(mesh);
     EXPECT_LE(bvh.depth(), 8u);  // ceil(log2(1000 / 8)) + 1
-    for (const BvhNode& n : bvh.nodes())
-        if (n.is_leaf()) {
-            EXPECT_LE(n.ref_count(), BvhConfig{}.max_leaf_size);
-        }
+    for_each_slot(bvh, [](const BvhWideNode& node, int i) {
+        EXPECT_LE(node.count[i], BvhConfig{}.max_leaf_size);
+    });
 }
 
 TEST(BvhBuild, FirstSplitSeparatesDistantClusters)
@@ -162,13 +152,17 @@ TEST(BvhBuild, FirstSplitSeparatesDistantClusters)
     Mesh mesh = random_triangles(3, 500, Aabb{{0, 0, 0}, {1, 1, 1}}, 0.1f);
     append(mesh, random_triangles(4, 700, Aabb{{0, 0, 9}, {1, 1, 10}}, 0.1f));
     const Bvh bvh = build_checked_baseline<Bvh>(mesh);
-    const BvhNode root = bvh.nodes()[0];
-    ASSERT_FALSE(root.is_leaf());
-    EXPECT_EQ(root.axis(), 2);
-    const BvhNode low = bvh.nodes()[root.first_child()];
-    const BvhNode high = bvh.nodes()[root.first_child() + 1];
-    EXPECT_LT(low.bounds.upper.z, 1.2f);
-    EXPECT_GT(high.bounds.lower.z, 8.8f);
+    // The first split separates the clusters, so every child of the root lies in one of them.
+    int low = 0, high = 0;
+    for (int i = 0; i < BvhWideNode::width; ++i) {
+        if (!bvh.wide_nodes()[0].is_used(i)) continue;
+        const Aabb box = slot_box(bvh.wide_nodes()[0], i);
+        low += box.upper.z < 1.2f ? 1 : 0;
+        high += box.lower.z > 8.8f ? 1 : 0;
+        EXPECT_TRUE(box.upper.z < 1.2f || box.lower.z > 8.8f) << "slot " << i;
+    }
+    EXPECT_GT(low, 0);
+    EXPECT_GT(high, 0);
 }
 
 TEST(BvhBuild, LeavesRespectTheSizeLimits)
@@ -178,14 +172,13 @@ TEST(BvhBuild, LeavesRespectTheSizeLimits)
     config.leaf_size = 2;
     config.max_leaf_size = 4;
     const Bvh bvh = build_checked_baseline<Bvh>(mesh, config);
-    for (const BvhNode& n : bvh.nodes())
-        if (n.is_leaf()) {
-            EXPECT_LE(n.ref_count(), 4u);
-        }
-    // What a traversal reads: the wide nodes, the references and the root's box.
+    for_each_slot(bvh, [](const BvhWideNode& node, int i) { EXPECT_LE(node.count[i], 4u); });
+    // Three counts and the root's box, the wide nodes, the references.
     EXPECT_EQ(bvh.memory_bytes(),
-              4u + 32u + bvh.wide_nodes().size() * (32u * BvhWideNode::width) + 5000u * 4u);
-    EXPECT_EQ(bvh.node_count(), 2 * bvh.leaf_count() - 1);
+              12u + 24u + bvh.wide_nodes().size() * (32u * BvhWideNode::width) + 5000u * 4u);
+    // A wide node per binary inner node at most, and at most width slots each.
+    EXPECT_LE(bvh.node_count(), bvh.leaf_count() - 1);
+    EXPECT_LE(bvh.leaf_count(), bvh.node_count() * (BvhWideNode::width - 1) + 1);
 }
 
 TEST(BvhBuild, MaxDepthBoundsTheTree)

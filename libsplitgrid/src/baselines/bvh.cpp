@@ -52,6 +52,27 @@ Aabb padded_triangle_box(const MeshView& mesh, std::uint32_t tri, float pad) noe
 }
 
 // The coordinate binning and partitioning use: the box centre.
+// Writes `box` into slot i of `node`.
+void set_slot_box(BvhWideNode& node, int i, const Aabb& box) noexcept
+{
+    for (int k = 0; k < 3; ++k) {
+        node.lower[k][i] = box.lower[k];
+        node.upper[k][i] = box.upper[k];
+    }
+}
+
+// The union of the boxes of `node`'s used slots.
+Aabb slots_box(const BvhWideNode& node) noexcept
+{
+    Aabb box;
+    for (int i = 0; i < BvhWideNode::width && node.is_used(i); ++i)
+        for (int k = 0; k < 3; ++k) {
+            box.lower[k] = std::min(box.lower[k], node.lower[k][i]);
+            box.upper[k] = std::max(box.upper[k], node.upper[k][i]);
+        }
+    return box;
+}
+
 float centroid(const PrimRef& p, int axis) noexcept
 {
     return 0.5f * p.box.lower[axis] + 0.5f * p.box.upper[axis];
@@ -417,27 +438,28 @@ Bvh Bvh::build(const MeshView& mesh, const BvhConfig& config)
         built = builder.build_all();
         bvh.refs_ = builder.refs();
     });
-    bvh.nodes_ = std::move(built.nodes);
     bvh.depth_ = built.depth;
-    bvh.collapse();
+    bvh.collapse(built.nodes);
     return bvh;
 }
 
 // Each wide node takes a binary inner node's two children and, while it has fewer than width,
 // opens the inner one of largest surface area (its children take its slot), so that the
 // boxes a ray is most likely to enter are tested together. Depth first, parents before
-// children, as the binary layout; a function of the binary tree alone.
-void Bvh::collapse()
+// children; a function of the binary tree alone. A root that is a leaf becomes a wide node
+// with that one leaf.
+void Bvh::collapse(std::span<const BvhNode> binary)
 {
     wide_.clear();
-    wide_source_.clear();
-    if (nodes_.size() <= 1) return;
+    leaf_count_ = 0;
+    box_ = Aabb{};
+    if (binary.empty()) return;
     constexpr int width = BvhWideNode::width;
     constexpr float inf = std::numeric_limits<float>::infinity();
     struct Pending {
         std::uint32_t wide;  // the wide node whose slot it fills
         int slot;
-        std::uint32_t binary;  // the binary inner node it collapses
+        std::uint32_t binary;  // the binary node whose children it holds
     };
     std::vector<Pending> pending{{0, -1, 0}};
     while (!pending.empty()) {
@@ -446,15 +468,19 @@ void Bvh::collapse()
         const auto index = static_cast<std::uint32_t>(wide_.size());
         if (p.slot >= 0) wide_[p.wide].child[p.slot] = index;
         std::array<std::uint32_t, width> slots{};
-        const std::uint32_t first = nodes_[p.binary].first_child();
-        slots[0] = first;
-        slots[1] = first + 1;
-        int used = 2;
+        int used = 1;
+        if (binary[p.binary].is_leaf()) {
+            slots[0] = p.binary;  // the root is a leaf
+        } else {
+            slots[0] = binary[p.binary].first_child();
+            slots[1] = slots[0] + 1;
+            used = 2;
+        }
         while (used < width) {
             int open = -1;
             double open_area = -1.0;
             for (int i = 0; i < used; ++i) {
-                const BvhNode& n = nodes_[slots[static_cast<std::size_t>(i)]];
+                const BvhNode& n = binary[slots[static_cast<std::size_t>(i)]];
                 if (n.is_leaf()) continue;
                 const double area = n.bounds.surface_area();
                 if (area > open_area) {
@@ -463,7 +489,7 @@ void Bvh::collapse()
                 }
             }
             if (open < 0) break;
-            const std::uint32_t opened = nodes_[slots[static_cast<std::size_t>(open)]].first_child();
+            const std::uint32_t opened = binary[slots[static_cast<std::size_t>(open)]].first_child();
             for (int i = used; i > open + 1; --i)
                 slots[static_cast<std::size_t>(i)] = slots[static_cast<std::size_t>(i - 1)];
             slots[static_cast<std::size_t>(open)] = opened;
@@ -471,47 +497,31 @@ void Bvh::collapse()
             ++used;
         }
         BvhWideNode wide{};
-        std::array<std::uint32_t, width> source{};
         for (int i = 0; i < width; ++i) {
-            const auto s = static_cast<std::size_t>(i);
-            source[s] = i < used ? slots[s] : BvhWideNode::unused_slot;
-            for (int k = 0; k < 3; ++k) {
-                wide.lower[k][i] = inf;
-                wide.upper[k][i] = -inf;
-            }
             wide.child[i] = BvhWideNode::unused_slot;
             wide.count[i] = 0;
-            if (i >= used) continue;
-            const BvhNode& n = nodes_[slots[s]];
-            if (n.is_leaf()) {
-                wide.child[i] = n.first_ref();
-                wide.count[i] = n.ref_count();
+            Aabb box;  // empty: +infinity below, -infinity above
+            if (i < used) {
+                const BvhNode& n = binary[slots[static_cast<std::size_t>(i)]];
+                box = n.bounds;
+                if (n.is_leaf()) {
+                    wide.child[i] = n.first_ref();
+                    wide.count[i] = n.ref_count();
+                    ++leaf_count_;
+                }
+            }
+            for (int k = 0; k < 3; ++k) {
+                wide.lower[k][i] = i < used ? box.lower[k] : inf;
+                wide.upper[k][i] = i < used ? box.upper[k] : -inf;
             }
         }
         wide_.push_back(wide);
-        wide_source_.push_back(source);
         // Children in reverse, so that they are laid out in slot order.
         for (int i = used; i-- > 0;)
-            if (!nodes_[slots[static_cast<std::size_t>(i)]].is_leaf())
+            if (!binary[slots[static_cast<std::size_t>(i)]].is_leaf())
                 pending.push_back({index, i, slots[static_cast<std::size_t>(i)]});
     }
-    refit_wide();
-}
-
-// Copies every used slot's box from the binary node it holds.
-void Bvh::refit_wide() noexcept
-{
-    for (std::size_t w = 0; w < wide_.size(); ++w) {
-        for (int i = 0; i < BvhWideNode::width; ++i) {
-            const std::uint32_t source = wide_source_[w][static_cast<std::size_t>(i)];
-            if (source == BvhWideNode::unused_slot) continue;
-            const Aabb& box = nodes_[source].bounds;
-            for (int k = 0; k < 3; ++k) {
-                wide_[w].lower[k][i] = box.lower[k];
-                wide_[w].upper[k][i] = box.upper[k];
-            }
-        }
-    }
+    box_ = binary[0].bounds;
 }
 
 void Bvh::refit(const MeshView& mesh, unsigned threads)
@@ -521,31 +531,33 @@ void Bvh::refit(const MeshView& mesh, unsigned threads)
         if (mesh.triangle_count() != triangle_count_)
             throw InputError("BVH refit: the mesh has " + std::to_string(mesh.triangle_count()) +
                              " triangles, the BVH was built on " + std::to_string(triangle_count_));
-        if (nodes_.empty()) return;
+        if (wide_.empty()) return;
         const float pad = boundary_pad(scene);
-        // Leaves first, in parallel: each reads only its own triangles.
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes_.size(), 4096),
+        // Leaf slots first, in parallel: each reads only its own triangles.
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, wide_.size(), 1024),
                           [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t k = r.begin(); k != r.end(); ++k) {
-                                  BvhNode& node = nodes_[k];
-                                  if (!node.is_leaf()) continue;
-                                  Aabb box;
-                                  for (std::uint32_t i = 0; i < node.ref_count(); ++i)
-                                      box.extend(padded_triangle_box(
-                                          mesh, refs_[node.first_ref() + i], pad));
-                                  node.bounds = box;
+                              for (std::size_t w = r.begin(); w != r.end(); ++w) {
+                                  BvhWideNode& node = wide_[w];
+                                  for (int i = 0; i < BvhWideNode::width; ++i) {
+                                      if (!node.is_used(i) || !node.is_leaf(i)) continue;
+                                      Aabb box;
+                                      for (std::uint32_t j = 0; j < node.count[i]; ++j)
+                                          box.extend(padded_triangle_box(
+                                              mesh, refs_[node.child[i] + j], pad));
+                                      set_slot_box(node, i, box);
+                                  }
                               }
                           });
     });
-    // Then the inner nodes, children before parents: a node's children always follow it.
-    for (std::size_t k = nodes_.size(); k-- > 0;) {
-        BvhNode& node = nodes_[k];
-        if (node.is_leaf()) continue;
-        Aabb box = nodes_[node.first_child()].bounds;
-        box.extend(nodes_[node.first_child() + 1].bounds);
-        node.bounds = box;
+    if (wide_.empty()) return;
+    // Then the inner slots, children before parents: a node's children always follow it.
+    for (std::size_t w = wide_.size(); w-- > 0;) {
+        BvhWideNode& node = wide_[w];
+        for (int i = 0; i < BvhWideNode::width; ++i)
+            if (node.is_used(i) && !node.is_leaf(i))
+                set_slot_box(node, i, slots_box(wide_[node.child[i]]));
     }
-    refit_wide();
+    box_ = slots_box(wide_[0]);
 }
 
 }  // namespace sg

@@ -92,9 +92,9 @@ struct BoxRay {
 }
 
 /// Entry parameter of the ray into `box` within [t0, t1], every crossing widened by the
-/// axis's allowance, or +infinity if the ray misses it. Always inlined: GCC made it a call,
-/// twice per inner node, and inline the BVH traces 3-5% faster (docs/BENCH.md, "Calls inside
-/// the walks").
+/// axis's allowance, or +infinity if the ray misses it: the root box's test (the wide nodes'
+/// boxes go through wide_box_entry, which does the same lane by lane). Always inlined: as a
+/// call in the binary walk it cost 3-5% (docs/BENCH.md, "Calls inside the walks").
 [[nodiscard, gnu::always_inline]] inline float box_entry(const BoxRay& ray, const Aabb& box,
                                                          float t0, float t1) noexcept
 {
@@ -120,37 +120,15 @@ template <Padding padding>
     else return box_entry(widened, box, t0, t1);
 }
 
-/// One float or int per child of a BvhWideNode.
-typedef float wide_float __attribute__((vector_size(4 * BvhWideNode::width)));
-typedef std::int32_t wide_int __attribute__((vector_size(4 * BvhWideNode::width)));
-
-/// x in every lane.
-[[nodiscard, gnu::always_inline]] inline wide_float wide_splat(float x) noexcept
-{
-    wide_float v;
-    for (int i = 0; i < BvhWideNode::width; ++i) v[i] = x;
-    return v;
-}
-
-/// Bit i set where lane i of `mask` (0 or -1 per lane) is set. A template, so that only the
-/// branch of the configured width is compiled.
-template <class Mask>
-[[nodiscard, gnu::always_inline]] inline std::uint32_t wide_lane_bits(Mask mask) noexcept
-{
-    if constexpr (sizeof(Mask) == sizeof(vint)) {
-        return lane_bits(mask);
-    } else {
-        static_assert(sizeof(Mask) == sizeof(__m128));
-        return static_cast<std::uint32_t>(_mm_movemask_ps(__m128(mask)));
-    }
-}
+static_assert(BvhWideNode::width == lane_count,
+              "a BvhWideNode's boxes are tested in one vfloat (simd.hpp), a lane per child");
 
 /// The children's planes at byte `offset` of `node` (near_wide, far_wide: chosen per ray, as
 /// in plane_at).
-[[nodiscard, gnu::always_inline]] inline wide_float planes_at(const BvhWideNode& node,
+[[nodiscard, gnu::always_inline]] inline vfloat planes_at(const BvhWideNode& node,
                                                            std::uint32_t offset) noexcept
 {
-    wide_float v;
+    vfloat v;
     std::memcpy(&v, reinterpret_cast<const unsigned char*>(&node) + offset, sizeof v);
     return v;
 }
@@ -163,36 +141,36 @@ template <class Mask>
 template <Padding padding>
 [[nodiscard, gnu::always_inline]] inline std::uint32_t wide_box_entry(
     const KernelRay& ray, const BoxRay& widened, const BvhWideNode& node, float t0_in, float t1_in,
-    wide_float& t_enter) noexcept
+    vfloat& t_enter) noexcept
 {
-    wide_float t0 = wide_splat(t0_in);
-    wide_float t1 = wide_splat(t1_in);
+    vfloat t0 = splat(t0_in);
+    vfloat t1 = splat(t1_in);
     for (int k = 0; k < 3; ++k) {
         if constexpr (padding == Padding::none) {
-            wide_float lo, hi;
+            vfloat lo, hi;
             std::memcpy(&lo, node.lower[k], sizeof lo);
             std::memcpy(&hi, node.upper[k], sizeof hi);
             const float o = ray.origin[k], inv = ray.inv[k], pad = ray.pad[k];
-            const wide_float a = (lo - o) * inv;
-            const wide_float b = (hi - o) * inv;
-            const wide_float near = (b < a ? b : a) - pad;
-            const wide_float far = (a < b ? b : a) + pad;
+            const vfloat a = (lo - o) * inv;
+            const vfloat b = (hi - o) * inv;
+            const vfloat near = (b < a ? b : a) - pad;
+            const vfloat far = (a < b ? b : a) + pad;
             t0 = t0 < near ? near : t0;
             t1 = far < t1 ? far : t1;
         } else {
-            const wide_float near = planes_at(node, widened.near_wide[k]) * widened.scale[k] +
-                                 widened.near_offset[k];
-            const wide_float far = planes_at(node, widened.far_wide[k]) * widened.scale[k] +
-                                widened.far_offset[k];
+            const vfloat near = planes_at(node, widened.near_wide[k]) * widened.scale[k] +
+                                widened.near_offset[k];
+            const vfloat far = planes_at(node, widened.far_wide[k]) * widened.scale[k] +
+                               widened.far_offset[k];
             t0 = t0 < near ? near : t0;
             t1 = far < t1 ? far : t1;
         }
     }
-    wide_int child;
+    vint child;
     std::memcpy(&child, node.child, sizeof child);
-    const wide_int hit = (t0 <= t1) & (child != static_cast<std::int32_t>(BvhWideNode::unused_slot));
+    const vint hit = (t0 <= t1) & (child != static_cast<std::int32_t>(BvhWideNode::unused_slot));
     t_enter = t0;
-    return wide_lane_bits(hit);
+    return lane_bits(hit);
 }
 
 /// Depth first over the wide nodes (Bvh::wide_nodes), the children a ray enters visited
@@ -203,21 +181,15 @@ template <TriangleTest test, Padding padding, class Search>
 inline void walk_bvh(const Bvh& bvh, const MeshArrays& mesh, const KernelRay& ray,
                      Search& search) noexcept
 {
-    const std::span<const BvhNode> binary = bvh.nodes();
-    if (binary.empty()) return;
+    const std::span<const BvhWideNode> wide = bvh.wide_nodes();
+    if (wide.empty()) return;
     constexpr float miss = std::numeric_limits<float>::infinity();
     const BoxRay widened(ray);
-    if (box_entry<padding>(ray, widened, binary[0].bounds, ray.t_min, ray.t_max) == miss) return;
+    if (box_entry<padding>(ray, widened, bvh.box(), ray.t_min, ray.t_max) == miss) return;
     const std::uint32_t* const refs = bvh.refs().data();
     const std::uint32_t* const refs_end = refs + bvh.refs().size();
     NoMailbox no_mailbox;
-    if (binary[0].is_leaf()) {
-        search.count_cell();
-        (void)test_id_leaf<test>(ray, mesh, search, no_mailbox, refs + binary[0].first_ref(),
-                                 binary[0].ref_count(), refs_end);
-        return;
-    }
-    const BvhWideNode* const nodes = bvh.wide_nodes().data();
+    const BvhWideNode* const nodes = wide.data();
 
     // A child to visit: its BvhWideNode child word in the low half of `target`, its count
     // word (0 for a wide node) in the high half.
@@ -235,12 +207,12 @@ inline void walk_bvh(const Bvh& bvh, const MeshArrays& mesh, const KernelRay& ra
     std::size_t sp = 0;
     std::uint64_t next = 0;  // the root, a wide node
     for (;;) {
-        const auto child = static_cast<std::uint32_t>(next);
+        const auto index = static_cast<std::uint32_t>(next);
         const auto count = static_cast<std::uint32_t>(next >> 32);
         if (count == 0) {
-            const BvhWideNode& node = nodes[child];
+            const BvhWideNode& node = nodes[index];
             search.count_node();
-            wide_float t;
+            vfloat t;
             std::uint32_t hits = wide_box_entry<padding>(ray, widened, node, ray.t_min,
                                                          search.best_t(), t);
             if (hits != 0) {
@@ -274,7 +246,7 @@ inline void walk_bvh(const Bvh& bvh, const MeshArrays& mesh, const KernelRay& ra
             }
         } else {
             search.count_cell();
-            (void)test_id_leaf<test>(ray, mesh, search, no_mailbox, refs + child, count, refs_end);
+            (void)test_id_leaf<test>(ray, mesh, search, no_mailbox, refs + index, count, refs_end);
             if (search.done()) return;
         }
         // Next pending child whose box starts before the closest hit so far.

@@ -58,11 +58,10 @@ typedef std::int32_t vint __attribute__((vector_size(32)));
 }
 
 /// Clears the upper halves of the 256- and 512-bit registers (vzeroupper; nothing in the
-/// SSE2 kernels). The batch drivers call it after every walk: GCC inserts it where a function
-/// that used them returns, but left it out of some exits of the wide BVH walk, and the next
-/// instructions compiled without AVX (is_valid, between two rays) then waited on the dirty
-/// registers: the BVH's 4-wide walk traced primary rays on the Stanford bunny at 5.4 Mrays/s
-/// instead of 11.2-11.7 (docs/BENCH.md, "The BVH: eight boxes per step").
+/// SSE2 kernels). The batch drivers call it after every walk: GCC does not insert it on every
+/// exit of a walk whose inlined leaf test uses 256-bit registers, and the code compiled
+/// without AVX that runs between two rays then stalls on the dirty registers (it halved the
+/// BVH's speed on primary rays; docs/BENCH.md, "The BVH: eight boxes per step").
 [[gnu::always_inline]] inline void clear_upper_lanes() noexcept
 {
 #if SG_KERNEL_ISA_LEVEL >= 3

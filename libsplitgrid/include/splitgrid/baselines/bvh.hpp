@@ -56,12 +56,11 @@ struct BvhConfig {
     friend bool operator==(const BvhConfig&, const BvhConfig&) = default;
 };
 
-/// One BVH node, 32 bytes:
+/// One node of the build's binary tree (Bvh::build collapses it into BvhWideNodes), 32 bytes:
 ///   offset  0  Aabb    bounds       the node's box (24 bytes)
 ///   offset 24  uint32  index        inner: first child (the second is index + 1);
 ///                                   leaf: first triangle reference
-///   offset 28  uint32  bits 0-1     inner: split axis 0, 1, 2 (orders the children);
-///                                   3 for a leaf
+///   offset 28  uint32  bits 0-1     inner: split axis 0, 1, 2; 3 for a leaf
 ///                      bits 2-31    leaf: number of references (>= 1)
 /// Nodes are in the order a depth-first build allocates them: the root, then its two
 /// children side by side, then the left child's subtree, then the right child's.
@@ -114,7 +113,9 @@ static_assert(std::is_trivially_copyable_v<BvhNode>, "BvhNode is copied as bytes
 ///   offset 192  uint32[8]     child   inner child: index of its BvhWideNode; leaf child:
 ///                                     first triangle reference; unused slot: unused_slot
 ///   offset 224  uint32[8]     count   leaf child: number of references (>= 1); else 0
-/// Used slots come first; an unused slot's box is empty (lower +infinity, upper -infinity).
+/// Used slots come first. An unused slot's box is empty (lower +infinity, upper -infinity), but
+/// it is its child word that keeps the walk out of it: a ray unconstrained on every axis (see
+/// BoxRay) would enter an empty box.
 struct alignas(64) BvhWideNode {
     static constexpr int width = 8;
     static constexpr std::uint32_t unused_slot = 0xFFFFFFFFu;
@@ -129,6 +130,7 @@ struct alignas(64) BvhWideNode {
     friend bool operator==(const BvhWideNode&, const BvhWideNode&) = default;
 };
 static_assert(sizeof(BvhWideNode) == 32 * BvhWideNode::width, "BvhWideNode: no padding");
+static_assert(std::is_standard_layout_v<BvhWideNode>, "the walk reads planes by byte offset");
 
 /// A bounding volume hierarchy over the triangles' boxes, each padded by boundary_pad so that
 /// a hit the watertight test reports a few ulps outside its triangle is inside the leaf's box.
@@ -143,38 +145,40 @@ public:
     [[nodiscard]] static Bvh build(const MeshView& mesh, const BvhConfig& config = {});
 
     /// Refit for a mesh whose vertices moved: the same triangles (same count and order),
-    /// new positions. Keeps the tree and the triangle order and recomputes every node's box
-    /// from the leaves up, as the build would for that tree (each triangle's box padded by
-    /// the new scene's boundary_pad), so every query stays exact; only its speed depends on
-    /// how far the tree has drifted from what a build would choose. `threads` (as in
-    /// BvhConfig::threads) refit the leaves; the inner nodes, two box unions each, follow in
-    /// one thread. Throws InputError for a bad mesh or a different triangle count.
+    /// new positions. Keeps the tree and the triangle order and recomputes every box from
+    /// the leaves up, as the build would for that tree (each triangle's box padded by the new
+    /// scene's boundary_pad), so every query stays exact; only its speed depends on how far
+    /// the tree has drifted from what a build would choose. `threads` (as in
+    /// BvhConfig::threads) refit the leaves; the inner slots, one union of a node's slots
+    /// each, follow in one thread. Throws InputError for a bad mesh or a different triangle
+    /// count.
     void refit(const MeshView& mesh, unsigned threads = 0);
 
     // Queries (intersect, occluded): StructureQueries (structure_queries.hpp), traversed by
     // src/kernels/bvh_walk.hpp over the wide nodes. Counters: nodes_visited = wide nodes whose
     // children were tested, cells_visited = leaves.
 
-    /// Bytes a traversal reads (not the mesh): the wide nodes, the references and the root's
-    /// box (the whole tree when the root is a leaf). The binary nodes the wide ones were
-    /// collapsed from are kept for refit and inspection and not counted, as no query reads
-    /// them past the root.
+    /// Bytes of the BVH itself (not the mesh): its wide nodes, references and root box. The
+    /// binary tree of the build is collapsed and freed (Bvh::build).
     [[nodiscard]] std::size_t memory_bytes() const noexcept
     {
-        if (nodes_.empty()) return sizeof(triangle_count_);
-        return sizeof(triangle_count_) + sizeof(BvhNode) + wide_.size() * sizeof(BvhWideNode) +
-               refs_.size() * sizeof(std::uint32_t);
+        return sizeof(triangle_count_) + sizeof(depth_) + sizeof(leaf_count_) + sizeof(box_) +
+               wide_.size() * sizeof(BvhWideNode) + refs_.size() * sizeof(std::uint32_t);
     }
 
-    [[nodiscard]] std::span<const BvhNode> nodes() const noexcept { return nodes_; }
-    /// The tree the traversal walks: the binary nodes collapsed to up to BvhWideNode::width
-    /// children a node (root at 0); empty when the root is a leaf or the BVH is empty.
+    /// The tree: the build's binary tree collapsed to up to BvhWideNode::width children a
+    /// node, root at 0, parents before children; empty for an empty mesh. A root that is a
+    /// leaf is a wide node with one used slot.
     [[nodiscard]] std::span<const BvhWideNode> wide_nodes() const noexcept { return wide_; }
     [[nodiscard]] std::span<const std::uint32_t> refs() const noexcept { return refs_; }
-    [[nodiscard]] std::size_t node_count() const noexcept { return nodes_.size(); }
-    [[nodiscard]] std::size_t leaf_count() const noexcept { return (nodes_.size() + 1) / 2; }
+    /// The root's box (empty for an empty mesh): the union of the root node's slots.
+    [[nodiscard]] const Aabb& box() const noexcept { return box_; }
+    [[nodiscard]] std::size_t node_count() const noexcept { return wide_.size(); }
+    /// Leaves (slots holding triangle references), as in the build's binary tree.
+    [[nodiscard]] std::size_t leaf_count() const noexcept { return leaf_count_; }
     [[nodiscard]] std::size_t reference_count() const noexcept { return refs_.size(); }
-    /// Depth of the deepest leaf (root = 0; 0 also for an empty BVH).
+    /// Depth of the deepest leaf in the build's binary tree (root = 0; 0 also for an empty
+    /// BVH); the wide tree is at most as deep.
     [[nodiscard]] std::uint32_t depth() const noexcept { return depth_; }
     [[nodiscard]] std::uint32_t triangle_count() const noexcept { return triangle_count_; }
 
@@ -183,15 +187,12 @@ public:
 private:
     std::uint32_t triangle_count_ = 0;
     std::uint32_t depth_ = 0;
-    std::vector<BvhNode> nodes_;
+    std::uint32_t leaf_count_ = 0;
+    Aabb box_;
     std::vector<std::uint32_t> refs_;
     std::vector<BvhWideNode> wide_;
-    /// For each wide node's slot, the binary node it holds (refit copies its box); not read
-    /// by the traversal.
-    std::vector<std::array<std::uint32_t, BvhWideNode::width>> wide_source_;
 
-    void collapse();
-    void refit_wide() noexcept;
+    void collapse(std::span<const BvhNode> binary);
 };
 
 }  // namespace sg
