@@ -1,9 +1,11 @@
 #include "fuzz_support.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
+#include "splitgrid/builder.hpp"
 #include "splitgrid/traverse.hpp"
 #include "support/oracle.hpp"
 
@@ -68,10 +70,80 @@ std::vector<Ray> probe_rays(const MeshView& mesh, const Aabb& box, std::size_t m
     return rays;
 }
 
+namespace {
+
+struct Point {
+    double x, y, z;
+};
+Point operator-(Point a, Point b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+double dot(Point a, Point b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Point cross(Point a, Point b)
+{
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+Point corner(const MeshView& mesh, std::uint32_t tri, int k)
+{
+    const Vec3f v = mesh.vertex(tri, k);
+    return {v.x, v.y, v.z};
+}
+
+// Distance from p to the segment [a, b].
+double segment_distance(Point p, Point a, Point b)
+{
+    const Point ab = b - a;
+    const double len2 = dot(ab, ab);
+    const double s = len2 > 0.0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    const Point q{a.x + s * ab.x, a.y + s * ab.y, a.z + s * ab.z};
+    return std::sqrt(dot(p - q, p - q));
+}
+
+// Distance from p to triangle `tri`, in double: to its plane where p projects inside it, else
+// to its nearest edge.
+double triangle_distance(const MeshView& mesh, std::uint32_t tri, Point p)
+{
+    const Point a = corner(mesh, tri, 0), b = corner(mesh, tri, 1), c = corner(mesh, tri, 2);
+    const Point n = cross(b - a, c - a);
+    const double n2 = dot(n, n);
+    if (n2 > 0.0) {
+        const double s0 = dot(cross(b - a, p - a), n);
+        const double s1 = dot(cross(c - b, p - b), n);
+        const double s2 = dot(cross(a - c, p - c), n);
+        if (s0 >= 0.0 && s1 >= 0.0 && s2 >= 0.0) return std::abs(dot(p - a, n)) / std::sqrt(n2);
+    }
+    return std::min({segment_distance(p, a, b), segment_distance(p, b, c),
+                     segment_distance(p, c, a)});
+}
+
+}  // namespace
+
 void require_brute_force_agreement(const SplitGrid& grid, const MeshView& mesh,
                                    const std::vector<Ray>& rays)
 {
-    const test::OracleReport report = test::compare_with_brute_force(grid, mesh, rays);
+    // A ray in (or within rounding of) a triangle's plane makes the watertight test's t a
+    // ratio of rounding errors: brute force can then report a hit whose point lies off the
+    // triangle, where no cell references it (cells hold triangles within boundary_pad). Such
+    // a reference answer is not held against the grid if the grid's own answer is a sound
+    // hit (require_sound_hits) and the any-hit answers agree (docs/FUZZING.md, findings).
+    const double pad = boundary_pad(bounds(mesh));
+    std::vector<Ray> held;
+    for (const Ray& ray : rays) {
+        const Hit expected = intersect_brute_force(mesh, ray);
+        const Hit actual = intersect(grid, mesh, ray);
+        if (expected.is_hit() && !test::same_closest_hit(expected, actual)) {
+            const double t = expected.t;
+            const Point p{ray.origin.x + t * ray.direction.x, ray.origin.y + t * ray.direction.y,
+                          ray.origin.z + t * ray.direction.z};
+            if (triangle_distance(mesh, expected.triangle, p) > pad) {
+                require_sound_hits(grid, mesh, {ray});
+                if (occluded(grid, mesh, ray) != occluded_brute_force(mesh, ray))
+                    fail("grid and brute force disagree on any hit of a ray in a triangle's "
+                         "plane");
+                continue;
+            }
+        }
+        held.push_back(ray);
+    }
+    const test::OracleReport report = test::compare_with_brute_force(grid, mesh, held);
     if (report.closest_disagreements != 0 || report.any_hit_disagreements != 0)
         fail("grid and brute force disagree: " + report.first_failure);
 }
