@@ -455,7 +455,6 @@ void Bvh::collapse(std::span<const BvhNode> binary)
     box_ = Aabb{};
     if (binary.empty()) return;
     constexpr int width = BvhWideNode::width;
-    constexpr float inf = std::numeric_limits<float>::infinity();
     struct Pending {
         std::uint32_t wide;  // the wide node whose slot it fills
         int slot;
@@ -510,10 +509,7 @@ void Bvh::collapse(std::span<const BvhNode> binary)
                     ++leaf_count_;
                 }
             }
-            for (int k = 0; k < 3; ++k) {
-                wide.lower[k][i] = i < used ? box.lower[k] : inf;
-                wide.upper[k][i] = i < used ? box.upper[k] : -inf;
-            }
+            set_slot_box(wide, i, box);
         }
         wide_.push_back(wide);
         // Children in reverse, so that they are laid out in slot order.
