@@ -47,10 +47,10 @@ inline constexpr std::size_t grid_stack_size = max_supported_depth + 1;
 /// beside the clip instead of after it), no correction loop, and a prefetch of the node's
 /// first cells; per cell: one crossing (a multiply and an add) and two compares; per
 /// non-empty cell, a prefetch of what the node's next cell leads to. Per random ray on the
-/// 871k-triangle dragon (`kernel-cost`, AVX2): 2,791 instructions, 22.7 mispredicted
-/// branches, 22.7 L1 misses, of which the walk (node entries and cells) 1,864 / 19.4 / 11.3
-/// and the batched triangle tests 201 / 1.3 / 6.7
-/// (docs/BENCH.md). A class rather than lambdas: GCC compiles lambdas without the instruction
+/// 871k-triangle dragon (`kernel-cost`, AVX2): 3,134 instructions, 22.5 mispredicted
+/// branches, 25.0 L1 misses, of which the walk (node entries and cells) 1,772 / 18.1 / 11.3
+/// and the batched triangle tests 594 / 1.8 / 8.8 (docs/BENCH.md, "Triangles loaded as rows,
+/// not gathered"). A class rather than lambdas: GCC compiles lambdas without the instruction
 /// set of the target region they are written in.
 template <TriangleTest test, class Search>
 class SplitGridWalk {
