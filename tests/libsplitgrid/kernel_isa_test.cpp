@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -167,6 +169,43 @@ TEST(KernelIsa, BatchedTestMatchesTheScalarTestBitForBit)
     EXPECT_EQ(disagreements, 0u) << isa_name(kernel_isa());
     EXPECT_GT(same_triangle, rays.size() / 2);
     EXPECT_EQ(bits_differ, 0u) << isa_name(kernel_isa());
+}
+
+// The batched test reads each vertex as a 16-byte row, which for the mesh's last vertex would
+// reach past the array. Here the vertices lie in an allocation of exactly their size and every
+// triangle uses the last vertex: the hits must equal brute force's, and a read past the end
+// is a heap overflow for the sanitizer builds.
+TEST(KernelIsa, TheLastVertexIsReadWithinTheMeshsArray)
+{
+    constexpr std::uint32_t ring = 40;
+    const auto vertices = std::make_unique<Vec3f[]>(ring + 1);
+    for (std::uint32_t k = 0; k < ring; ++k) {
+        const double a = 6.283185307179586 * k / ring;
+        vertices[k] = Vec3f{static_cast<float>(5.0 + 4.0 * std::cos(a)),
+                            static_cast<float>(5.0 + 4.0 * std::sin(a)), static_cast<float>(k % 3)};
+    }
+    vertices[ring] = Vec3f{5.0f, 5.0f, 7.0f};  // the apex: the last vertex, in every triangle
+    std::vector<Triangle> triangles;
+    for (std::uint32_t k = 0; k < ring; ++k)
+        triangles.push_back(Triangle{{k, (k + 1) % ring, ring}});
+    const MeshView view{std::span<const Vec3f>(vertices.get(), ring + 1), triangles};
+    std::vector<Ray> rays = rays_at_triangles(30, 2000, scene_box, view);
+    for (std::size_t k = 0; k < 500; ++k) {  // at the apex itself (zero edge functions)
+        Ray r = rays[k];
+        r.direction = vertices[ring] - r.origin;
+        rays.push_back(r);
+    }
+    const SplitGrid grid = build_split_grid(view, BuildConfig{});
+    const Bvh bvh = Bvh::build(view);
+    std::size_t hits = 0, disagreements = 0;
+    for (const Ray& r : rays) {
+        const Hit expected = intersect_brute_force(view, r);
+        hits += expected.is_hit() ? 1 : 0;
+        for (const Hit& h : {intersect(grid, view, r), bvh.intersect(view, r)})
+            disagreements += same_closest_hit(expected, h) ? 0 : 1;
+    }
+    EXPECT_EQ(disagreements, 0u) << isa_name(kernel_isa());
+    EXPECT_GT(hits, rays.size() / 2);
 }
 
 // SG_ISA in the environment chooses the kernels (ctest runs the traversal suites once per

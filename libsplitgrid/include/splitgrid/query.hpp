@@ -42,8 +42,8 @@ struct QueryOptions {
 /// The instruction sets the traversal kernels are compiled for. Every query runs the kernels
 /// of the active one (kernel_isa()); all of them compute bit-identical hits.
 enum class Isa : std::uint8_t {
-    sse2,    ///< x86-64 baseline: 4-wide triangle tests
-    avx2,    ///< x86-64-v3 (AVX2, FMA, BMI2): 8-wide triangle tests with hardware gathers
+    sse2,    ///< x86-64 baseline: 8-lane triangle tests as two 4-wide halves
+    avx2,    ///< x86-64-v3 (AVX2, FMA, BMI2): 8-wide triangle tests in 256-bit registers
     avx512,  ///< x86-64-v4 (AVX-512 F/VL/BW/DQ): 8-wide triangle tests with mask registers
 };
 

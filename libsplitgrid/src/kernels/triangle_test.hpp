@@ -49,11 +49,12 @@ struct MeshArrays {
 /// The corners of the triangles id[l], transposed: corner[c][k] holds, lane by lane, coordinate
 /// k of corner c. Corner indices are read one by one, each vertex as one 16-byte row (its
 /// three coordinates and the next vertex's first; the last vertex, which has no next, from a
-/// copy, chosen by address so that no branch is taken), and eight rows become three vectors in
-/// eleven shuffles. The twelve gathers this
-/// replaces (three of corner indices, nine of coordinates) made every leaf visit wait for two
-/// gathers in a row. With these loads every structure traces 1.0-1.2 times as fast, shadow
-/// rays 1.1-1.3 times (AMD Zen 3; docs/BENCH.md, "Triangles loaded as rows, not gathered").
+/// copy chosen by address, which GCC compiles without a branch), and eight rows become three
+/// vectors in eleven shuffles. The twelve gathers this replaces (three of corner indices, nine
+/// of coordinates) made every leaf visit wait for two gathers in a row. With these loads every
+/// structure traced 1.0-1.2 times as fast, shadow rays 1.1-1.3 times (AMD Zen 3, measured with
+/// a first version that read the last vertex behind a branch; docs/BENCH.md, "Triangles loaded
+/// as rows, not gathered").
 [[gnu::always_inline]] inline void load_corners(const MeshArrays& mesh, vint id,
                                                 vfloat (&corner)[3][3]) noexcept
 {
