@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -180,7 +181,7 @@ TEST(KernelIsa, TheLastVertexIsReadWithinTheMeshsArray)
     constexpr std::uint32_t ring = 40;
     const auto vertices = std::make_unique<Vec3f[]>(ring + 1);
     for (std::uint32_t k = 0; k < ring; ++k) {
-        const double a = 6.283185307179586 * k / ring;
+        const double a = 2.0 * std::numbers::pi * k / ring;
         vertices[k] = Vec3f{static_cast<float>(5.0 + 4.0 * std::cos(a)),
                             static_cast<float>(5.0 + 4.0 * std::sin(a)), static_cast<float>(k % 3)};
     }
