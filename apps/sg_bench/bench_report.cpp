@@ -63,6 +63,7 @@ Json results_json(const BenchResults& results, const BenchPlan& plan, const RunI
                  {"sweep_rays", plan.sweep_rays},
                  {"scale_sizes", plan.scale_sizes},
                  {"seed", plan.seed},
+                 {"mesh_order", plan.mesh_order},
                  {"split_grid_config", apps::to_json(plan.configs.split_grid)}};
 
     Json scenes = Json::array();

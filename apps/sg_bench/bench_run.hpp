@@ -37,6 +37,9 @@ struct BenchPlan {
     std::size_t sweep_rays = 300'000;      ///< path rays traced per sweep point
     std::vector<std::size_t> scale_sizes;  ///< triangle counts of the memory-scaling series
     std::uint32_t seed = 1;
+    /// Order of the scenes' triangles: "file" (as read), "morton" or "shuffled" (sg-bench
+    /// --mesh-order).
+    std::string mesh_order = "file";
     StructureConfigs configs;
 };
 

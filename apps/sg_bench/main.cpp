@@ -17,6 +17,8 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <numeric>
+#include <random>
 #include <sstream>
 #include <string>
 #include <system_error>
@@ -30,6 +32,7 @@
 #include "splitgrid/formats/output_file.hpp"
 #include "splitgrid/formats/temporary_paths.hpp"
 #include "splitgrid/formats/text_file.hpp"
+#include "splitgrid/mesh_order.hpp"
 #include "splitgrid/query.hpp"
 
 #include <spdlog/fmt/fmt.h>
@@ -191,13 +194,28 @@ void refuse_outputs_over(const fs::path& out, const std::vector<fs::path>& input
         sg::apps::refuse_output_over_input(file, inputs, read_by);
 }
 
-sg::bench::BenchScene load_scene(const fs::path& path, const fs::path& out)
+/// Reads a scene, its triangles in the order `mesh_order` names (BenchPlan::mesh_order;
+/// "shuffled" with `seed`): every structure is built from the same arrays.
+sg::bench::BenchScene load_scene(const fs::path& path, const fs::path& out,
+                                 const std::string& mesh_order, std::uint32_t seed)
 {
     sg::ImportedMesh imported = sg::import_mesh(path);
     refuse_outputs_over(out, sg::apps::as_paths(imported.report.opened_files), path);
     for (const std::string& warning : imported.report.warnings) spdlog::warn("{}", warning);
     if (imported.mesh.triangles.empty())
         throw sg::InputError(path.string() + ": no usable triangles");
+    if (mesh_order != "file") {
+        std::vector<std::uint32_t> order;
+        if (mesh_order == "morton") {
+            order = sg::morton_order(imported.mesh.view());
+        } else {
+            order.resize(imported.mesh.triangles.size());
+            std::iota(order.begin(), order.end(), 0u);
+            std::shuffle(order.begin(), order.end(), std::mt19937(seed));
+        }
+        sg::reorder_triangles(imported.mesh, order);
+        spdlog::info("{}: triangles and vertices put in {} order", path.string(), mesh_order);
+    }
     return {path.stem().string(), path.string(), std::move(imported.mesh)};
 }
 
@@ -402,10 +420,11 @@ void bench(CLI::App& app, Options& o)
     std::vector<sg::bench::BenchScene> scenes;
     for (const fs::path& m : o.meshes) {
         spdlog::debug("loading {}", m.string());
-        scenes.push_back(load_scene(m, o.out));
+        scenes.push_back(load_scene(m, o.out, plan.mesh_order, plan.seed));
     }
     sg::bench::BenchScene model;
-    if (!o.scale_model.empty()) model = load_scene(o.scale_model, o.out);
+    if (!o.scale_model.empty())
+        model = load_scene(o.scale_model, o.out, plan.mesh_order, plan.seed);
     else if (!scenes.empty()) model = scenes.front();
     for (const std::size_t n : arena_sizes) {
         sg::bench::BenchScene arena;
@@ -418,7 +437,7 @@ void bench(CLI::App& app, Options& o)
     make_names_unique(scenes, o.meshes);
     std::vector<sg::bench::DynamicScene> dynamic_scenes;
     const auto add_dynamic = [&](const fs::path& m, sg::bench::Motion motion) {
-        const sg::bench::BenchScene loaded = load_scene(m, o.out);
+        const sg::bench::BenchScene loaded = load_scene(m, o.out, plan.mesh_order, plan.seed);
         dynamic_scenes.push_back(sg::bench::make_dynamic_scene(
             loaded.name, loaded.source, loaded.mesh.view(), motion, o.dynamic_triangles));
     };
@@ -598,6 +617,17 @@ int main(int argc, char** argv)
     app.add_option("--charts-script", o.charts_script,
                    sg::apps::help_text("The chart script.", {}, o.charts_script.string()))
         ->type_name("FILE");
+    app.add_option("--mesh-order", o.plan.mesh_order,
+                   sg::apps::help_text(
+                       "Order of every scene's triangles (and of the vertices, by first use), "
+                       "the same arrays for every structure: shows how much a structure that "
+                       "reads the mesh through triangle ids depends on it. file: as the file "
+                       "gives them. morton: along a Morton curve of the triangles' centroids, "
+                       "near in space near in memory (morton_order). shuffled: at random "
+                       "(with --seed), near in space far apart in memory.",
+                       {}, "file"))
+        ->check(CLI::IsMember({"file", "morton", "shuffled"}))
+        ->type_name("NAME");
     sg::apps::add_count_option(app, "--seed", o.plan.seed, 0,
                                std::numeric_limits<std::uint32_t>::max(),
                                "Seed of every random workload.");

@@ -284,6 +284,39 @@ TEST(SgBench, ScenesGetUniqueNamesAndMissingChartsAreNamed)
     EXPECT_EQ(run.out.find("wrote"), std::string::npos) << run.out;
 }
 
+TEST(SgBench, MortonOrderIsTheSameSceneUnderOtherIds)
+{
+    // --mesh-order morton renumbers the triangles of every scene: the same triangles, and
+    // every structure's closest and any hits still those of brute force on the renumbered mesh.
+    ScratchDir scratch;
+    const fs::path model = assimp_model("PLY/Wuson.ply");
+    const fs::path out = scratch / "bench";
+    const ToolRun run = run_tool(
+        SG_BENCH_EXE,
+        {"--quick", "--width", "32", "--height", "24", "--incoherent-rays", "2000", "--threads",
+         "1", "--structures", "splitgrid,bvh,kd_tree", "--no-sweep", "--watertight-rays", "0",
+         "--mesh-order", "morton", "-o", out.string(), model.string()},
+        scratch);
+    ASSERT_EQ(run.exit_code, 0) << describe(run);
+    EXPECT_NE(run.err.find("put in morton order"), std::string::npos) << run.err;
+
+    const json j = json::parse(read_text(out / "results.json"));
+    EXPECT_EQ(j.at("plan").at("mesh_order"), "morton");
+    const ImportedMesh imported = import_mesh(model);
+    const json& scene = j.at("scenes").at(0);
+    EXPECT_EQ(scene.at("triangles"), imported.mesh.triangles.size());
+    EXPECT_EQ(scene.at("vertices"), imported.mesh.vertices.size());
+    ASSERT_EQ(scene.at("structures").size(), 3u);
+    for (const json& structure : scene.at("structures"))
+        for (const json& workload : structure.at("workloads")) {
+            EXPECT_GT(workload.at("oracle_rays").get<std::size_t>(), 0u);
+            EXPECT_EQ(workload.at("oracle_disagreements"), 0)
+                << structure.at("structure") << " " << workload.at("workload");
+            EXPECT_EQ(workload.at("reference_disagreements"), 0)
+                << structure.at("structure") << " " << workload.at("workload");
+        }
+}
+
 TEST(SgBench, DynamicRunRebuildsOrRefitsEveryStructureOnEveryFrame)
 {
     // Only dynamic scenes: the static part is left out, and every way of following the
@@ -359,6 +392,7 @@ TEST(SgBench, BadFlagsAreUsageErrorsAndLeaveNothing)
         {"--scale-sizes", "1e3,lots", model.string(), "-o", out.string()},
         {"-o", out.string()},
         {"--leaf-size", "0", model.string(), "-o", out.string()},
+        {"--mesh-order", "zorder", model.string(), "-o", out.string()},
         {"--dynamic-structures", "bvh,octree", "--dynamic-deform", model.string(), "-o",
          out.string()},
         {"--dynamic-rays", "1e4,0", "--dynamic-deform", model.string(), "-o", out.string()},

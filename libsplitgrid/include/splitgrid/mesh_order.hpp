@@ -1,0 +1,28 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "splitgrid/mesh.hpp"
+
+namespace sg {
+
+/// The order of the triangles' centroids along a Morton (Z-order) curve over the mesh's
+/// bounding box: element i is the id of the triangle that comes i-th. Triangles near in space
+/// then lie near in the arrays, so the triangles of one leaf (and their corners) can share
+/// cache lines. Centroids are quantised to 2^21 steps per axis of the box (an axis of zero
+/// extent to one step); triangles with equal codes keep their relative order, so the result
+/// depends on the mesh alone. Throws InputError as check_mesh does (an index past the vertex
+/// array, a non-finite corner). Cost: one pass over the triangles and a sort.
+[[nodiscard]] std::vector<std::uint32_t> morton_order(const MeshView& mesh);
+
+/// Puts the triangles of `mesh` in `order` (element i: the id in the input of the triangle
+/// that becomes triangle i) and the vertices in the order the reordered triangles first use
+/// them; vertices no triangle uses are dropped. Each triangle keeps its corners in their order
+/// with their exact positions, so a ray hits the reordered mesh as it hits the input (the same
+/// t, u and v), under the new id. Throws ConfigError if `order` is not a permutation of the
+/// triangle ids and InputError as check_mesh does; the mesh is then unchanged.
+void reorder_triangles(Mesh& mesh, std::span<const std::uint32_t> order);
+
+}  // namespace sg

@@ -1,0 +1,101 @@
+#include "splitgrid/mesh_order.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <limits>
+#include <utility>
+
+#include "splitgrid/aabb.hpp"
+#include "splitgrid/error.hpp"
+
+namespace sg {
+namespace {
+
+constexpr int bits_per_axis = 21;
+constexpr double steps_per_axis = double{1u << bits_per_axis};
+constexpr std::uint64_t largest_step = (std::uint64_t{1} << bits_per_axis) - 1;
+
+/// The 21 bits of `q` spread to every third bit of a 64-bit word (bit k to bit 3k).
+std::uint64_t spread_bits(std::uint64_t q) noexcept
+{
+    q &= largest_step;
+    q = (q | (q << 32)) & 0x001F00000000FFFFull;
+    q = (q | (q << 16)) & 0x001F0000FF0000FFull;
+    q = (q | (q << 8)) & 0x100F00F00F00F00Full;
+    q = (q | (q << 4)) & 0x10C30C30C30C30C3ull;
+    q = (q | (q << 2)) & 0x1249249249249249ull;
+    return q;
+}
+
+/// The step of `c` on an axis starting at `lo` with `steps_per_unit` steps per unit length.
+std::uint64_t step_of(double c, double lo, double steps_per_unit) noexcept
+{
+    const double s = (c - lo) * steps_per_unit;
+    return s <= 0.0 ? 0 : std::min(largest_step, static_cast<std::uint64_t>(s));
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> morton_order(const MeshView& mesh)
+{
+    check_mesh(mesh);
+    const std::size_t count = mesh.triangles.size();
+    if (count > std::numeric_limits<std::uint32_t>::max())
+        throw InputError("more than 2^32 - 1 triangles, the limit of 32-bit triangle ids");
+    const Aabb box = bounds(mesh);
+    double lo[3];
+    double scale[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = box.lower[a];
+        const double extent = double{box.upper[a]} - double{box.lower[a]};
+        scale[a] = extent > 0.0 ? steps_per_axis / extent : 0.0;
+    }
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(count);
+    for (std::size_t t = 0; t < count; ++t) {
+        std::uint64_t code = 0;
+        for (int a = 0; a < 3; ++a) {
+            double centroid = 0.0;
+            for (const std::uint32_t v : mesh.triangles[t].v) centroid += mesh.vertices[v][a];
+            code |= spread_bits(step_of(centroid / 3.0, lo[a], scale[a])) << a;
+        }
+        keyed[t] = {code, static_cast<std::uint32_t>(t)};
+    }
+    // Pairs compare by code, then by id: equal codes keep the input's order.
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<std::uint32_t> order(count);
+    for (std::size_t i = 0; i < count; ++i) order[i] = keyed[i].second;
+    return order;
+}
+
+void reorder_triangles(Mesh& mesh, std::span<const std::uint32_t> order)
+{
+    check_mesh(mesh.view());
+    const std::size_t count = mesh.triangles.size();
+    std::vector<bool> seen(count, false);
+    if (order.size() != count)
+        throw ConfigError("reorder_triangles: the order must name every triangle once");
+    for (const std::uint32_t id : order) {
+        if (id >= count || seen[id])
+            throw ConfigError("reorder_triangles: the order must name every triangle once");
+        seen[id] = true;
+    }
+    constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
+    std::vector<std::uint32_t> new_index(mesh.vertices.size(), unused);
+    std::vector<Vec3f> vertices;
+    std::vector<Triangle> triangles(count);
+    for (std::size_t t = 0; t < count; ++t) {
+        const Triangle& old = mesh.triangles[order[t]];
+        for (std::size_t k = 0; k < 3; ++k) {
+            std::uint32_t& index = new_index[old.v[k]];
+            if (index == unused) {
+                index = static_cast<std::uint32_t>(vertices.size());
+                vertices.push_back(mesh.vertices[old.v[k]]);
+            }
+            triangles[t].v[k] = index;
+        }
+    }
+    mesh.vertices = std::move(vertices);
+    mesh.triangles = std::move(triangles);
+}
+
+}  // namespace sg
