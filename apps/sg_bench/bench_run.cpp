@@ -13,6 +13,7 @@
 #include "build_memory.hpp"
 #include "splitgrid/arena_scene.hpp"
 #include "splitgrid/error.hpp"
+#include "splitgrid/mesh_order.hpp"
 #include "splitgrid/traverse.hpp"
 
 namespace sg::bench {
@@ -482,23 +483,12 @@ Mesh scale_scene(const MeshView& model, std::size_t triangles, std::uint32_t see
         std::nth_element(by_distance.begin(), by_distance.begin() + static_cast<std::ptrdiff_t>(triangles),
                          by_distance.end());
         by_distance.resize(triangles);
-        std::sort(by_distance.begin(), by_distance.end(),
-                  [](const auto& a, const auto& b) { return a.second < b.second; });
-        // Only the patch's own vertices, so that bytes per triangle count no unused ones.
-        Mesh patch;
-        std::vector<std::uint32_t> new_index(model.vertices.size(), invalid_triangle);
-        for (const auto& [distance, t] : by_distance) {
-            Triangle tri = model.triangles[t];
-            for (std::uint32_t& v : tri.v) {
-                if (new_index[v] == invalid_triangle) {
-                    new_index[v] = static_cast<std::uint32_t>(patch.vertices.size());
-                    patch.vertices.push_back(model.vertices[v]);
-                }
-                v = new_index[v];
-            }
-            patch.triangles.push_back(tri);
-        }
-        return patch;
+        // The patch's triangles in the model's order, with only their own vertices, so that
+        // bytes per triangle count no unused ones.
+        std::vector<std::uint32_t> ids(triangles);
+        for (std::size_t k = 0; k < triangles; ++k) ids[k] = by_distance[k].second;
+        std::sort(ids.begin(), ids.end());
+        return extract_triangles(model, ids);
     }
     ArenaConfig config;
     config.copies = static_cast<std::uint32_t>(

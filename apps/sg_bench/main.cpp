@@ -211,7 +211,11 @@ sg::bench::BenchScene load_scene(const fs::path& path, const fs::path& out,
         } else {
             order.resize(imported.mesh.triangles.size());
             std::iota(order.begin(), order.end(), 0u);
-            std::shuffle(order.begin(), order.end(), std::mt19937(seed));
+            // Fisher-Yates on the generator's own outputs, which the standard fixes, so that a
+            // seed gives the same order with every standard library (std::shuffle's varies).
+            std::mt19937 rng(seed);
+            for (std::size_t i = order.size(); i > 1; --i)
+                std::swap(order[i - 1], order[rng() % i]);
         }
         sg::reorder_triangles(imported.mesh, order);
         spdlog::info("{}: triangles and vertices put in {} order", path.string(), mesh_order);

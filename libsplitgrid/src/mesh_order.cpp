@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <limits>
+#include <string>
 #include <utility>
 
 #include "splitgrid/aabb.hpp"
@@ -38,11 +39,10 @@ std::uint64_t step_of(double c, double lo, double steps_per_unit) noexcept
 
 std::vector<std::uint32_t> morton_order(const MeshView& mesh)
 {
-    check_mesh(mesh);
     const std::size_t count = mesh.triangles.size();
     if (count > std::numeric_limits<std::uint32_t>::max())
         throw InputError("more than 2^32 - 1 triangles, the limit of 32-bit triangle ids");
-    const Aabb box = bounds(mesh);
+    const Aabb box = checked_bounds(mesh);
     double lo[3];
     double scale[3];
     for (int a = 0; a < 3; ++a) {
@@ -67,6 +67,32 @@ std::vector<std::uint32_t> morton_order(const MeshView& mesh)
     return order;
 }
 
+Mesh extract_triangles(const MeshView& mesh, std::span<const std::uint32_t> ids)
+{
+    constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
+    std::vector<std::uint32_t> new_index(mesh.vertices.size(), unused);
+    Mesh out;
+    out.triangles.reserve(ids.size());
+    for (const std::uint32_t id : ids) {
+        if (id >= mesh.triangles.size())
+            throw ConfigError("extract_triangles: triangle " + std::to_string(id) +
+                              " is past the mesh's " + std::to_string(mesh.triangles.size()));
+        Triangle triangle = mesh.triangles[id];
+        for (std::uint32_t& v : triangle.v) {
+            if (v >= new_index.size())
+                throw InputError("triangle " + std::to_string(id) + ": vertex index " +
+                                 std::to_string(v) + " is past the vertex array");
+            if (new_index[v] == unused) {
+                new_index[v] = static_cast<std::uint32_t>(out.vertices.size());
+                out.vertices.push_back(mesh.vertices[v]);
+            }
+            v = new_index[v];
+        }
+        out.triangles.push_back(triangle);
+    }
+    return out;
+}
+
 void reorder_triangles(Mesh& mesh, std::span<const std::uint32_t> order)
 {
     check_mesh(mesh.view());
@@ -79,23 +105,7 @@ void reorder_triangles(Mesh& mesh, std::span<const std::uint32_t> order)
             throw ConfigError("reorder_triangles: the order must name every triangle once");
         seen[id] = true;
     }
-    constexpr std::uint32_t unused = std::numeric_limits<std::uint32_t>::max();
-    std::vector<std::uint32_t> new_index(mesh.vertices.size(), unused);
-    std::vector<Vec3f> vertices;
-    std::vector<Triangle> triangles(count);
-    for (std::size_t t = 0; t < count; ++t) {
-        const Triangle& old = mesh.triangles[order[t]];
-        for (std::size_t k = 0; k < 3; ++k) {
-            std::uint32_t& index = new_index[old.v[k]];
-            if (index == unused) {
-                index = static_cast<std::uint32_t>(vertices.size());
-                vertices.push_back(mesh.vertices[old.v[k]]);
-            }
-            triangles[t].v[k] = index;
-        }
-    }
-    mesh.vertices = std::move(vertices);
-    mesh.triangles = std::move(triangles);
+    mesh = extract_triangles(mesh.view(), order);
 }
 
 }  // namespace sg

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstdint>
-#include <numeric>
 #include <random>
 #include <set>
 #include <vector>
@@ -80,6 +80,102 @@ TEST(MeshOrder, FollowsTheZOrderOfACellGrid)
     };
     for (std::size_t t = 0; t < cells.size(); ++t)
         EXPECT_EQ(z_order(cells[original[t]]), t) << "triangle " << t;
+}
+
+TEST(MeshOrder, FollowsTheZOrderOfEveryBit)
+{
+    // A box from 0 to 2^21 on every axis, so that a centroid's step on an axis is its integer
+    // part: random triangles centred at integer + 1/2 (corners multiples of 1/4, exact in
+    // float), one triangle at the box's lower corner and one in its upper z plane (a centroid
+    // on the box's edge: the last step, not one past it). Their order must be that of the
+    // steps' bits interleaved one by one (x to bit 3b, y to 3b + 1, z to 3b + 2), ties by id.
+    constexpr std::uint32_t top = 1u << 21;
+    const auto f = [](std::uint64_t v) { return static_cast<float>(v); };
+    std::vector<std::array<std::uint64_t, 3>> steps;
+    Mesh mesh;
+    const auto add = [&](std::array<Vec3f, 3> corners, std::array<std::uint64_t, 3> step) {
+        const auto first = static_cast<std::uint32_t>(mesh.vertices.size());
+        for (const Vec3f& c : corners) mesh.vertices.push_back(c);
+        mesh.triangles.push_back(Triangle{{first, first + 1, first + 2}});
+        steps.push_back(step);
+    };
+    add({Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}}, {0, 0, 0});
+    add({Vec3f{f(top), f(top), f(top)}, Vec3f{f(top - 1), f(top), f(top)},
+         Vec3f{f(top), f(top - 1), f(top)}},
+        {top - 1, top - 1, top - 1});
+    const auto add_centred = [&](const std::array<std::uint64_t, 3>& q) {
+        const Vec3f c{f(q[0]) + 0.5f, f(q[1]) + 0.5f, f(q[2]) + 0.5f};
+        // Corners c + a, c + b, c - a - b: the centroid is c.
+        add({Vec3f{c.x - 0.25f, c.y - 0.25f, c.z}, Vec3f{c.x + 0.25f, c.y - 0.25f, c.z + 0.25f},
+             Vec3f{c.x, c.y + 0.5f, c.z - 0.25f}},
+            q);
+    };
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<std::uint64_t> cell(0, top - 1);
+    for (int t = 0; t < 2000; ++t)
+        add_centred({cell(rng), cell(rng), t % 7 == 0 ? 5 : cell(rng)});
+    // For every bit of every axis, two triangles whose steps differ in that bit alone, the
+    // one with the bit set first: only that bit orders them.
+    for (unsigned a = 0; a < 3; ++a)
+        for (unsigned b = 0; b < 21; ++b) {
+            std::array<std::uint64_t, 3> q = {cell(rng), cell(rng), cell(rng)};
+            q[a] |= std::uint64_t{1} << b;
+            add_centred(q);
+            q[a] &= ~(std::uint64_t{1} << b);
+            add_centred(q);
+        }
+    const auto key = [](const std::array<std::uint64_t, 3>& q) {
+        std::uint64_t k = 0;
+        for (unsigned b = 0; b < 21; ++b)
+            for (unsigned a = 0; a < 3; ++a) k |= ((q[a] >> b) & 1u) << (3 * b + a);
+        return k;
+    };
+    std::vector<std::uint32_t> expected(steps.size());
+    for (std::uint32_t t = 0; t < expected.size(); ++t) expected[t] = t;
+    std::stable_sort(expected.begin(), expected.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return key(steps[a]) < key(steps[b]);
+    });
+    EXPECT_EQ(morton_order(mesh.view()), expected);
+}
+
+TEST(MeshOrder, EqualCodesKeepTheInputsOrder)
+{
+    // Every triangle in the plane z = 1 (an axis of zero extent) and centred on one point:
+    // one code for all, so the order is the input's.
+    Mesh mesh;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.5f, 2.0f);
+    for (std::uint32_t t = 0; t < 500; ++t) {
+        const float a = u(rng);
+        const float b = u(rng);
+        mesh.vertices.push_back({-a, -b, 1.0f});
+        mesh.vertices.push_back({a, -b, 1.0f});
+        mesh.vertices.push_back({0.0f, 2.0f * b, 1.0f});
+        mesh.triangles.push_back(Triangle{{3 * t, 3 * t + 1, 3 * t + 2}});
+    }
+    const std::vector<std::uint32_t> order = morton_order(mesh.view());
+    ASSERT_EQ(order.size(), mesh.triangles.size());
+    for (std::uint32_t t = 0; t < order.size(); ++t) EXPECT_EQ(order[t], t);
+}
+
+TEST(MeshOrder, ExtractedTrianglesKeepTheirCornersAndOnlyTheirVertices)
+{
+    Mesh mesh;
+    for (std::uint32_t k = 0; k < 10; ++k)
+        mesh.vertices.push_back({static_cast<float>(k), static_cast<float>(k * k), 1.0f});
+    mesh.triangles = {Triangle{{0, 1, 2}}, Triangle{{2, 3, 4}}, Triangle{{5, 6, 7}},
+                      Triangle{{7, 8, 9}}};
+    const std::vector<std::uint32_t> ids = {3, 1};
+    const Mesh part = extract_triangles(mesh.view(), ids);
+    ASSERT_EQ(part.triangles.size(), 2u);
+    EXPECT_EQ(part.vertices.size(), 6u);
+    for (std::size_t t = 0; t < ids.size(); ++t)
+        for (int k = 0; k < 3; ++k)
+            EXPECT_TRUE(same_bits(part.view().vertex(static_cast<std::uint32_t>(t), k),
+                                  mesh.view().vertex(ids[t], k)));
+    EXPECT_EQ(part.triangles[0], (Triangle{{0, 1, 2}}));
+    EXPECT_THROW((void)extract_triangles(mesh.view(), std::vector<std::uint32_t>{4}),
+                 ConfigError);
 }
 
 TEST(MeshOrder, KeepsEveryTriangleAndNumbersVerticesByFirstUse)

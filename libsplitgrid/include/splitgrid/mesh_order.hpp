@@ -13,16 +13,22 @@ namespace sg {
 /// then lie near in the arrays, so the triangles of one leaf (and their corners) can share
 /// cache lines. Centroids are quantised to 2^21 steps per axis of the box (an axis of zero
 /// extent to one step); triangles with equal codes keep their relative order, so the result
-/// depends on the mesh alone. Throws InputError as check_mesh does (an index past the vertex
-/// array, a non-finite corner). Cost: one pass over the triangles and a sort.
+/// depends on the mesh alone. Throws InputError as checked_bounds does (an index past the
+/// vertex array, a non-finite corner) and for more than 2^32 - 1 triangles. Cost: one pass
+/// over the triangles to check them and find the box, one to code them, and a sort.
 [[nodiscard]] std::vector<std::uint32_t> morton_order(const MeshView& mesh);
 
+/// The triangles `ids` of `mesh`, in that order, with only the vertices they use, numbered in
+/// the order the triangles first use them. Each triangle keeps its corners in their order with
+/// their exact positions, so a ray hits it as it hits the triangle in `mesh` (the same t, u
+/// and v), under its new id, its position in `ids`. Throws ConfigError for an id past the
+/// triangle array and InputError for a vertex index past the vertex array.
+[[nodiscard]] Mesh extract_triangles(const MeshView& mesh, std::span<const std::uint32_t> ids);
+
 /// Puts the triangles of `mesh` in `order` (element i: the id in the input of the triangle
-/// that becomes triangle i) and the vertices in the order the reordered triangles first use
-/// them; vertices no triangle uses are dropped. Each triangle keeps its corners in their order
-/// with their exact positions, so a ray hits the reordered mesh as it hits the input (the same
-/// t, u and v), under the new id. Throws ConfigError if `order` is not a permutation of the
-/// triangle ids and InputError as check_mesh does; the mesh is then unchanged.
+/// that becomes triangle i): extract_triangles of every triangle; vertices no triangle uses
+/// are dropped. Throws ConfigError if `order` is not a permutation of the triangle ids and
+/// InputError as check_mesh does; the mesh is then unchanged.
 void reorder_triangles(Mesh& mesh, std::span<const std::uint32_t> order);
 
 }  // namespace sg
