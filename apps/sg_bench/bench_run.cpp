@@ -482,7 +482,6 @@ Mesh scale_scene(const MeshView& model, std::size_t triangles, std::uint32_t see
         }
         std::nth_element(by_distance.begin(), by_distance.begin() + static_cast<std::ptrdiff_t>(triangles),
                          by_distance.end());
-        by_distance.resize(triangles);
         // The patch's triangles in the model's order, with only their own vertices, so that
         // bytes per triangle count no unused ones.
         std::vector<std::uint32_t> ids(triangles);
