@@ -72,14 +72,6 @@ std::vector<Ray> probe_rays(const MeshView& mesh, const Aabb& box, std::size_t m
 
 namespace {
 
-// Double-precision vector arithmetic on the library's Vec3d, for the distance below.
-Vec3d operator-(Vec3d a, Vec3d b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-double dot(Vec3d a, Vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec3d cross(Vec3d a, Vec3d b)
-{
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
 // Distance from p to the segment [a, b].
 double segment_distance(Vec3d p, Vec3d a, Vec3d b)
 {

@@ -80,6 +80,19 @@ struct Vec3d {
     }
 };
 
+[[nodiscard]] constexpr Vec3d operator-(Vec3d a, Vec3d b) noexcept
+{
+    return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+[[nodiscard]] constexpr double dot(Vec3d a, Vec3d b) noexcept
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+[[nodiscard]] constexpr Vec3d cross(Vec3d a, Vec3d b) noexcept
+{
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
 /// Component Axis of v (a Vec3f or Vec3d, const or not), chosen at compile time: operator[]
 /// chooses by a branch, which loops over many points pay for at each access.
 template <int Axis, class V>
