@@ -56,7 +56,7 @@ public:
     }
     double build_seconds() const override { return build_seconds_; }
     std::size_t structure_bytes() const override { return grid_.memory_bytes(); }
-    std::size_t reference_count() const override { return grid_.triangle_refs.size(); }
+    std::size_t reference_count() const override { return sg::reference_count(grid_); }
     bool supports(const QueryVariant&) const override { return true; }
     void intersect(std::span<const Ray> rays, std::span<Hit> hits,
                    const QueryVariant& variant) const override

@@ -80,8 +80,7 @@ Layout plan_layout(const SgContents& contents)
     counts[static_cast<std::size_t>(SgSection::triangles)] = contents.mesh.triangles.size();
     counts[static_cast<std::size_t>(SgSection::nodes)] = contents.grid.nodes.size();
     counts[static_cast<std::size_t>(SgSection::cells)] = contents.grid.cells.size();
-    counts[static_cast<std::size_t>(SgSection::triangle_refs)] =
-        contents.grid.triangle_refs.size();
+    counts[static_cast<std::size_t>(SgSection::leaf_words)] = contents.grid.leaf_words.size();
 
     Layout layout;
     std::uint64_t offset = detail::sg_first_section_offset;
@@ -119,7 +118,7 @@ detail::SgHeader make_header(std::uint64_t file_bytes)
     h.triangle_record_bytes = sizeof(Triangle);
     h.node_record_bytes = sizeof(detail::SgNodeRecord);
     h.cell_record_bytes = sizeof(detail::SgCellRecord);
-    h.triangle_ref_bytes = sizeof(TriangleRef);
+    h.leaf_word_bytes = sizeof(std::uint16_t);
     h.config_record_bytes = sizeof(detail::SgConfigRecord);
     return h;
 }
@@ -156,8 +155,8 @@ std::vector<std::uint8_t> encode_sg(const SgContents& contents)
         std::memcpy(cell_out, &r, sizeof r);
         cell_out += sizeof r;
     }
-    put_records(section_start(SgSection::triangle_refs),
-                std::span<const TriangleRef>(contents.grid.triangle_refs));
+    put_records(section_start(SgSection::leaf_words),
+                std::span<const std::uint16_t>(contents.grid.leaf_words));
 
     for (detail::SgSectionEntry& e : layout.table) {
         e.crc32 = detail::crc32_of(std::span<const std::uint8_t>(

@@ -1,6 +1,6 @@
 #pragma once
 
-// On-disk records of the .sg format, version 4. docs/FORMAT.md describes the same layout for
+// On-disk records of the .sg format, version 5. docs/FORMAT.md describes the same layout for
 // readers in other languages; keep the two in step.
 //
 // The file is little-endian. The writer and reader copy these records to and from the byte
@@ -18,6 +18,7 @@
 #include "splitgrid/build_config.hpp"
 #include "splitgrid/grid_node.hpp"
 #include "splitgrid/mesh.hpp"
+#include "splitgrid/split_grid.hpp"
 #include "splitgrid/vec3.hpp"
 
 namespace sg::detail {
@@ -41,11 +42,11 @@ inline constexpr std::uint64_t sg_section_alignment = 8;
 ///
 ///   offset  size  field
 ///        0     8  magic                  sg_magic
-///        8     4  format_version         sg_format_version (4)
+///        8     4  format_version         sg_format_version (5)
 ///       12     4  endian_marker          0x01020304
 ///       16     4  header_bytes           sizeof(SgHeader) = 80
 ///       20     4  section_entry_bytes    sizeof(SgSectionEntry) = 32
-///       24     4  section_count          7 in version 4
+///       24     4  section_count          7 in version 5
 ///       28     4  header_crc32           CRC-32 of the header (this field read as 0)
 ///                                        followed by the section table
 ///       32     8  file_bytes             size of the whole file
@@ -54,7 +55,7 @@ inline constexpr std::uint64_t sg_section_alignment = 8;
 ///       52     4  triangle_record_bytes  sizeof(Triangle) = 12
 ///       56     4  node_record_bytes      sizeof(SgNodeRecord) = 16
 ///       60     4  cell_record_bytes      sizeof(SgCellRecord) = 4
-///       64     4  triangle_ref_bytes     sizeof(TriangleRef) = 4
+///       64     4  leaf_word_bytes        sizeof(std::uint16_t) = 2 (leaf_words.hpp)
 ///       68     4  config_record_bytes    sizeof(SgConfigRecord) = 88
 ///       72     8  reserved               0
 struct SgHeader {
@@ -71,7 +72,7 @@ struct SgHeader {
     std::uint32_t triangle_record_bytes;
     std::uint32_t node_record_bytes;
     std::uint32_t cell_record_bytes;
-    std::uint32_t triangle_ref_bytes;
+    std::uint32_t leaf_word_bytes;
     std::uint32_t config_record_bytes;
     std::uint64_t reserved;
 };
@@ -251,16 +252,15 @@ static_assert(sizeof(SgCellRecord) == 4 && std::is_trivially_copyable_v<SgCellRe
                   std::has_unique_object_representations_v<SgCellRecord>,
               "SgCellRecord must be 4 bytes without padding (grid_node.hpp layout)");
 
-// Vertices, triangles and triangle references are stored as the core's own records.
+// Vertices, triangles and leaf words are stored as the core's own records.
 static_assert(sizeof(Vec3f) == 12 && std::is_trivially_copyable_v<Vec3f>,
               "Vec3f is stored as three float32");
 static_assert(sizeof(Triangle) == 12 && std::is_trivially_copyable_v<Triangle>,
               "Triangle is stored as three uint32");
-static_assert(sizeof(TriangleRef) == 4 && std::is_trivially_copyable_v<TriangleRef> &&
-                  std::has_unique_object_representations_v<TriangleRef>,
-              "TriangleRef is stored as one uint32 (triangle id, bit 31 = last of its leaf)");
+static_assert(sizeof(decltype(SplitGrid::leaf_words)::value_type) == 2,
+              "leaf words are stored as uint16 (leaf_words.hpp)");
 
-/// The sections of a version-4 file, in file order.
+/// The sections of a version-5 file, in file order.
 enum class SgSection : std::size_t {
     config,
     name,
@@ -268,7 +268,7 @@ enum class SgSection : std::size_t {
     triangles,
     nodes,
     cells,
-    triangle_refs,
+    leaf_words,
 };
 inline constexpr std::size_t sg_section_count = 7;
 
@@ -284,7 +284,7 @@ inline constexpr std::array<SgSectionSpec, sg_section_count> sg_section_specs{{
     {"TRIS", sizeof(Triangle)},
     {"NODE", sizeof(SgNodeRecord)},
     {"CELL", sizeof(SgCellRecord)},
-    {"TREF", sizeof(TriangleRef)},
+    {"TREF", sizeof(std::uint16_t)},  // the leaves' words (leaf_words.hpp)
 }};
 
 /// Where the first section starts: right after the header and the table (already aligned).

@@ -174,14 +174,18 @@ void SgReader::check_magic_and_version() const
             fail_at("invalid format version", offsetof(detail::SgHeader, format_version),
                     std::to_string(sg_format_version), "0");
         if (version == 1)
-            fail("format version 1 is no longer read (its cells are 8 bytes, version 4's are "
+            fail("format version 1 is no longer read (its cells are 8 bytes, version 5's are "
                  "4): build the file again with sg-build");
         if (version == 2)
             fail("format version 2 is no longer read (it keeps a one-cell node's cell in CELL, "
-                 "version 4 in the node's record): build the file again with sg-build");
+                 "version 5 in the node's record): build the file again with sg-build");
         if (version == 3)
             fail("format version 3 is no longer read (its inner cells do not say whether their "
-                 "child has one cell, version 4's do): build the file again with sg-build");
+                 "child has one cell, version 5's do): build the file again with sg-build");
+        if (version == 4)
+            fail("format version 4 is no longer read (its triangle references are 4 bytes each, "
+                 "version 5 packs a leaf's into 16-bit words): build the file again with "
+                 "sg-build");
     }
 }
 
@@ -216,8 +220,8 @@ void SgReader::check_header_and_table(bool verify_header_crc)
                header_.node_record_bytes, sizeof(detail::SgNodeRecord));
     expect_u32("cell record size", offsetof(SgHeader, cell_record_bytes),
                header_.cell_record_bytes, sizeof(detail::SgCellRecord));
-    expect_u32("triangle reference size", offsetof(SgHeader, triangle_ref_bytes),
-               header_.triangle_ref_bytes, sizeof(TriangleRef));
+    expect_u32("leaf word size", offsetof(SgHeader, leaf_word_bytes), header_.leaf_word_bytes,
+               sizeof(std::uint16_t));
     expect_u32("config record size", offsetof(SgHeader, config_record_bytes),
                header_.config_record_bytes, sizeof(detail::SgConfigRecord));
     if (header_.table_offset != sizeof(SgHeader))
@@ -392,7 +396,7 @@ SgContents SgReader::decode(const SgReadOptions& options) const
     contents.source_name.assign(name.begin(), name.end());
     contents.mesh.vertices = copy_records<Vec3f>(SgSection::vertices);
     contents.mesh.triangles = copy_records<Triangle>(SgSection::triangles);
-    contents.grid.triangle_refs = copy_records<TriangleRef>(SgSection::triangle_refs);
+    contents.grid.leaf_words = copy_records<std::uint16_t>(SgSection::leaf_words);
 
     const auto node_records = section_bytes(SgSection::nodes);
     contents.grid.nodes.reserve(node_records.size() / sizeof(detail::SgNodeRecord));

@@ -139,7 +139,7 @@ struct Fragment {
     CellRef root;
     std::vector<GridNode> nodes;
     std::vector<CellRef> cells;
-    std::vector<TriangleRef> triangle_refs;
+    std::vector<std::uint16_t> leaf_words;
 };
 
 // The record of a new node whose cells are still empty: a one-cell node holds its cell, the
@@ -480,7 +480,7 @@ private:
         Fragment& out = workspace.out;
         out.nodes.clear();
         out.cells.clear();
-        out.triangle_refs.clear();
+        out.leaf_words.clear();
         const CellRef root =
             build_serial(box, 0, n, n, depth, weight, kept_all, false, scratch, out);
         // Fragments wait for flatten() until the whole tree is built: no spare capacity.
@@ -489,7 +489,7 @@ private:
         cell.fragment = std::make_unique<Fragment>(
             Fragment{root, {out.nodes.begin(), out.nodes.end()},
                      {out.cells.begin(), out.cells.end()},
-                     {out.triangle_refs.begin(), out.triangle_refs.end()}});
+                     {out.leaf_words.begin(), out.leaf_words.end()}});
         return cell;
     }
 
@@ -593,9 +593,8 @@ private:
     CellRef emit_leaf(const Scratch& s, std::size_t begin, std::size_t n, double weight,
                       Fragment& out)
     {
-        const auto first = static_cast<std::uint32_t>(out.triangle_refs.size());
-        for (std::size_t k = 0; k < n; ++k)
-            out.triangle_refs.push_back(TriangleRef::make(s.tris[begin + k], k + 1 == n));
+        const std::uint32_t first =
+            append_leaf(out.leaf_words, std::span(s.tris).subspan(begin, n));
         report(weight);
         return CellRef::make_leaf(first);
     }
@@ -1033,54 +1032,54 @@ private:
 };
 
 // A fragment's cell with its indices shifted past the grid's `node_base` nodes and
-// `ref_base` references.
-CellRef shifted(CellRef cell, std::uint32_t node_base, std::uint32_t ref_base)
+// `word_base` leaf words.
+CellRef shifted(CellRef cell, std::uint32_t node_base, std::uint32_t word_base)
 {
     if (cell.is_inner())
         return CellRef::make_inner(cell.child() + node_base, cell.has_one_cell_child() ? 1 : 2);
-    if (cell.is_leaf()) return CellRef::make_leaf(cell.first_ref() + ref_base);
+    if (cell.is_leaf()) return CellRef::make_leaf(cell.first_word() + word_base);
     return cell;
 }
 
 // Appends a serially built subtree, already in pre-order, and releases it.
 CellRef append_fragment(Fragment& fragment, SplitGrid& grid)
 {
-    if (grid.triangle_refs.size() + fragment.triangle_refs.size() > std::size_t{max_cell_index} + 1)
-        throw InputError("Split Grid too large: more than 2^30 triangle references");
+    if (grid.leaf_words.size() + fragment.leaf_words.size() > std::size_t{max_cell_index} + 1)
+        throw InputError("Split Grid too large: more than 2^30 leaf words");
     if (grid.nodes.size() + fragment.nodes.size() > std::size_t{max_cell_index} + 1 ||
         grid.cells.size() + fragment.cells.size() > std::size_t{0xFFFFFFFFu})
         throw InputError("Split Grid too large: more than 2^30 nodes or 2^32 cells");
     const auto node_base = static_cast<std::uint32_t>(grid.nodes.size());
     const auto cell_base = static_cast<std::uint32_t>(grid.cells.size());
-    const auto ref_base = static_cast<std::uint32_t>(grid.triangle_refs.size());
+    const auto word_base = static_cast<std::uint32_t>(grid.leaf_words.size());
     for (const GridNode& node : fragment.nodes) {
         const std::uint32_t cells = node.resolution() == 1
-                                        ? shifted(node.only_cell(), node_base, ref_base).raw_bits()
+                                        ? shifted(node.only_cell(), node_base, word_base).raw_bits()
                                         : node.first_cell() + cell_base;
         grid.nodes.push_back(GridNode::from_raw(node.lo, node.hi, cells, node.axis_res_bits()));
     }
-    for (const CellRef cell : fragment.cells) grid.cells.push_back(shifted(cell, node_base, ref_base));
-    grid.triangle_refs.insert(grid.triangle_refs.end(), fragment.triangle_refs.begin(),
-                              fragment.triangle_refs.end());
-    const CellRef root = shifted(fragment.root, node_base, ref_base);
+    for (const CellRef cell : fragment.cells) grid.cells.push_back(shifted(cell, node_base, word_base));
+    grid.leaf_words.insert(grid.leaf_words.end(), fragment.leaf_words.begin(),
+                           fragment.leaf_words.end());
+    const CellRef root = shifted(fragment.root, node_base, word_base);
     fragment = {};
     return root;
 }
 
-// Numbers of nodes, cells and triangle references under `cell`.
+// Numbers of nodes, cells and leaf words under `cell`.
 struct GridSize {
     std::size_t nodes = 0;
     std::size_t cells = 0;
-    std::size_t triangle_refs = 0;
+    std::size_t leaf_words = 0;
 };
 void add_size(const BuiltCell& cell, GridSize& size)
 {
     if (cell.fragment) {
         size.nodes += cell.fragment->nodes.size();
         size.cells += cell.fragment->cells.size();
-        size.triangle_refs += cell.fragment->triangle_refs.size();
+        size.leaf_words += cell.fragment->leaf_words.size();
     } else if (cell.kind == CellKind::Leaf) {
-        size.triangle_refs += cell.triangles.size();
+        size.leaf_words += leaf_word_count(cell.triangles);
     } else if (cell.kind == CellKind::Inner) {
         size.nodes += 1;
         if (cell.node->cells.size() >= 2) size.cells += cell.node->cells.size();
@@ -1100,12 +1099,10 @@ CellRef flatten(BuiltCell& cell, SplitGrid& grid)
     case CellKind::Empty:
         return CellRef::make_empty();
     case CellKind::Leaf: {
-        if (grid.triangle_refs.size() + cell.triangles.size() > std::size_t{max_cell_index} + 1)
-            throw InputError("Split Grid too large: more than 2^30 triangle references");
-        const auto first = static_cast<std::uint32_t>(grid.triangle_refs.size());
-        for (std::size_t k = 0; k < cell.triangles.size(); ++k)
-            grid.triangle_refs.push_back(
-                TriangleRef::make(cell.triangles[k], k + 1 == cell.triangles.size()));
+        if (grid.leaf_words.size() + leaf_word_count(cell.triangles) >
+            std::size_t{max_cell_index} + 1)
+            throw InputError("Split Grid too large: more than 2^30 leaf words");
+        const std::uint32_t first = append_leaf(grid.leaf_words, cell.triangles);
         cell.triangles = {};
         return CellRef::make_leaf(first);
     }
@@ -1160,7 +1157,7 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
 {
     validate(config);
     if (mesh.triangle_count() > std::size_t{max_referenced_triangle} + 1)
-        throw InputError("mesh has more than 2^31 - 1 triangles");
+        throw InputError("mesh has more than 2^30 triangles");
     // Every step runs in the build's arena, the mesh's check and box too (in parallel for a
     // large mesh), so that `threads` bounds all of it.
     tbb::task_arena arena(config.threads == 0 ? tbb::task_arena::automatic
@@ -1171,7 +1168,7 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
     // The arrays are emptied, not freed: their memory is what a rebuild reuses.
     grid.nodes.clear();
     grid.cells.clear();
-    grid.triangle_refs.clear();
+    grid.leaf_words.clear();
     grid.root = CellRef{};
     grid.root_box = Aabb{};
     grid.config = config;
@@ -1194,11 +1191,11 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
     add_size(root, size);
     if (size.nodes > std::size_t{max_cell_index} + 1 || size.cells > std::size_t{0xFFFFFFFFu})
         throw InputError("Split Grid too large: more than 2^30 nodes or 2^32 cells");
-    if (size.triangle_refs > std::size_t{max_cell_index} + 1)
-        throw InputError("Split Grid too large: more than 2^30 triangle references");
+    if (size.leaf_words > std::size_t{max_cell_index} + 1)
+        throw InputError("Split Grid too large: more than 2^30 leaf words");
     grid.nodes.reserve(size.nodes);
     grid.cells.reserve(size.cells);
-    grid.triangle_refs.reserve(size.triangle_refs);
+    grid.leaf_words.reserve(size.leaf_words);
     grid.root = flatten(root, grid);
 }
 

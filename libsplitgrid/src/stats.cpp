@@ -36,10 +36,10 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
     s.cost_model = model;
     s.triangle_count = grid.triangle_count;
     s.node_count = grid.nodes.size();
-    s.reference_count = grid.triangle_refs.size();
+    s.reference_count = reference_count(grid);
     s.node_bytes = grid.nodes.size() * sizeof(GridNode);
     s.cell_bytes = grid.cells.size() * sizeof(CellRef);
-    s.reference_bytes = grid.triangle_refs.size() * sizeof(TriangleRef);
+    s.reference_bytes = grid.leaf_words.size() * sizeof(std::uint16_t);
     s.structure_bytes = grid.memory_bytes();
     if (grid.triangle_count > 0) {
         s.structure_bytes_per_triangle =
@@ -48,11 +48,15 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
     }
     {
         std::vector<bool> seen(grid.triangle_count, false);
-        for (TriangleRef r : grid.triangle_refs)
-            if (r.triangle() < seen.size() && !seen[r.triangle()]) {
-                seen[r.triangle()] = true;
-                ++s.referenced_triangles;
-            }
+        for (std::size_t w = 0; w < grid.leaf_words.size();) {
+            w = read_leaf(grid.leaf_words, w, [&](std::uint32_t id) {
+                if (id < seen.size() && !seen[id]) {
+                    seen[id] = true;
+                    ++s.referenced_triangles;
+                }
+            });
+            if (w == 0) break;
+        }
     }
 
     const double root_area = grid.root_box.surface_area();
@@ -64,7 +68,7 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
     s.leaf_size_min = std::numeric_limits<std::uint32_t>::max();
     auto add_leaf = [&](const CellRef& cell, const Aabb& box, std::uint32_t depth) {
         ++s.leaf_cells;
-        const auto size = static_cast<std::uint32_t>(leaf_refs(grid, cell).size());
+        const auto size = static_cast<std::uint32_t>(leaf_size(grid, cell));
         s.leaf_size_min = std::min(s.leaf_size_min, size);
         s.leaf_size_max = std::max(s.leaf_size_max, size);
         leaf_ref_total += size;

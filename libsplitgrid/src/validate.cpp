@@ -21,13 +21,13 @@ namespace {
 std::string node_name(std::uint32_t node) { return "node " + std::to_string(node); }
 
 // Checks one cell record. An inner cell's kind must match its child's resolution. A leaf's
-// references must lie in the array, end with a reference marked last (the traversal reads up
-// to it), and belong to no other leaf.
+// words must lie in the array and end with a reference marked last (the traversal reads up to
+// it), name triangles of the mesh in strictly ascending order, and belong to no other leaf.
 // `place` names the cell in a message; it is called only to fail: a name built for every cell
 // made loading the dragon's 46 MB file 1.2 times as slow (`sg-trace`, 100 rays).
 template <class Place>
 void check_cell(const SplitGrid& grid, const CellRef& cell, const Place& place,
-                std::vector<bool>& ref_seen)
+                std::vector<bool>& word_seen)
 {
     const auto where = [&] { return std::string(place()); };
     if (!cell.has_valid_kind())
@@ -45,20 +45,30 @@ void check_cell(const SplitGrid& grid, const CellRef& cell, const Place& place,
                  ", but it has " + std::to_string(n));
         return;
     }
-    const std::size_t size = grid.triangle_refs.size();
-    std::size_t r = cell.first_ref();
-    if (r >= size)
-        fail(where() + ": first triangle reference " + std::to_string(r) + " out of range (" +
-             std::to_string(size) + " references)");
-    for (;; ++r) {
-        if (r >= size)
-            fail(where() + ": the references from " + std::to_string(cell.first_ref()) +
-                 " run past the end of the array without one marked last");
-        if (ref_seen[r])
-            fail(where() + ": triangle reference " + std::to_string(r) +
-                 " also belongs to another leaf");
-        ref_seen[r] = true;
-        if (grid.triangle_refs[r].is_last()) break;
+    const std::span<const std::uint16_t> words(grid.leaf_words);
+    const std::size_t first = cell.first_word();
+    if (first >= words.size())
+        fail(where() + ": first leaf word " + std::to_string(first) + " out of range (" +
+             std::to_string(words.size()) + " words)");
+    bool any = false, unordered = false;
+    std::uint32_t previous = 0, beyond = 0;
+    const std::size_t end = read_leaf(words, first, [&](std::uint32_t id) {
+        if (any && id <= previous) unordered = true;
+        if (id >= grid.triangle_count && beyond == 0) beyond = id + 1;
+        previous = id;
+        any = true;
+    });
+    if (end == 0)
+        fail(where() + ": the leaf at word " + std::to_string(first) +
+             " runs past the end of the array or is not a valid leaf");
+    if (beyond != 0)
+        fail(where() + ": the leaf names triangle " + std::to_string(beyond - 1) +
+             " but there are " + std::to_string(grid.triangle_count) + " triangles");
+    if (unordered) fail(where() + ": the leaf's triangle ids are not strictly ascending");
+    for (std::size_t w = first; w < end; ++w) {
+        if (word_seen[w])
+            fail(where() + ": leaf word " + std::to_string(w) + " also belongs to another leaf");
+        word_seen[w] = true;
     }
 }
 
@@ -72,23 +82,17 @@ struct Pending {
 
 void check_invariants(const SplitGrid& grid)
 {
-    for (std::size_t r = 0; r < grid.triangle_refs.size(); ++r)
-        if (grid.triangle_refs[r].triangle() >= grid.triangle_count)
-            fail("triangle reference " + std::to_string(r) + " names triangle " +
-                 std::to_string(grid.triangle_refs[r].triangle()) + " but there are " +
-                 std::to_string(grid.triangle_count) + " triangles");
-
     if (grid.root.is_empty()) {
-        if (!grid.nodes.empty() || !grid.cells.empty() || !grid.triangle_refs.empty())
-            fail("root cell is empty but the grid has nodes, cells or references");
+        if (!grid.nodes.empty() || !grid.cells.empty() || !grid.leaf_words.empty())
+            fail("root cell is empty but the grid has nodes, cells or leaf words");
         return;
     }
     if (!is_finite(grid.root_box.lower) || !is_finite(grid.root_box.upper) ||
         grid.root_box.is_empty())
         fail("root box is empty or not finite");
 
-    std::vector<bool> ref_seen(grid.triangle_refs.size(), false);
-    check_cell(grid, grid.root, [] { return "root cell"; }, ref_seen);
+    std::vector<bool> word_seen(grid.leaf_words.size(), false);
+    check_cell(grid, grid.root, [] { return "root cell"; }, word_seen);
     std::vector<bool> node_seen(grid.nodes.size(), false);
     std::vector<bool> cell_owned(grid.cells.size(), false);
     std::vector<Pending> pending;
@@ -134,7 +138,7 @@ void check_invariants(const SplitGrid& grid)
         for (std::uint32_t i = 0; i < n; ++i) {
             const CellRef cell = node_cell(grid, node, i);
             const auto place = [&] { return where() + " cell " + std::to_string(i); };
-            check_cell(grid, cell, place, ref_seen);
+            check_cell(grid, cell, place, word_seen);
             if (!cell.is_inner()) continue;
             pending.push_back({cell.child(), p.depth + 1, cm.cell_box(p.box, axis, i)});
         }
@@ -146,40 +150,42 @@ void check_invariants(const SplitGrid& grid)
     if (cells_unowned != 0)
         fail(std::to_string(cells_unowned) + " of the grid's " +
              std::to_string(grid.cells.size()) + " cells belong to no node");
-    const auto refs_seen = static_cast<std::size_t>(std::count(ref_seen.begin(), ref_seen.end(), true));
-    if (refs_seen != grid.triangle_refs.size())
-        fail("leaves hold " + std::to_string(refs_seen) + " references but the grid has " +
-             std::to_string(grid.triangle_refs.size()));
+    const auto words_seen =
+        static_cast<std::size_t>(std::count(word_seen.begin(), word_seen.end(), true));
+    if (words_seen != grid.leaf_words.size())
+        fail("leaves hold " + std::to_string(words_seen) + " words but the grid has " +
+             std::to_string(grid.leaf_words.size()));
 }
 
 namespace {
 
-// Per reference r, what the coverage check needs to find a triangle in the leaf starting at r
-// in less than linear time per lookup: the leaf's length (leaf_refs() walks to the end mark,
-// which made a leaf of n references cost n^2: 100,000 copies of one triangle, 13 s) and how
-// many references from r on are in non-decreasing order. The builder's leaves are sorted
-// (triangle ids ascending) and are searched by bisection; a leaf that is not (a file from
-// elsewhere) is searched linearly.
+// Every leaf's triangle ids, decoded once, so the coverage check finds a triangle in a leaf by
+// bisection (check_invariants makes sure the ids are ascending): decoding the leaf for every
+// lookup made a leaf of n references cost n^2.
 struct LeafIndex {
-    std::vector<std::uint32_t> to_end;      // references from r to the end of r's leaf
-    std::vector<std::uint32_t> sorted_run;  // references from r on in non-decreasing order
+    std::vector<std::uint32_t> first_words;  // each leaf's first word, ascending
+    std::vector<std::size_t> starts;         // where each leaf's ids begin in `ids`, and the end
+    std::vector<std::uint32_t> ids;
 
-    explicit LeafIndex(const std::vector<TriangleRef>& refs)
-        : to_end(refs.size(), 1), sorted_run(refs.size(), 1)
+    explicit LeafIndex(std::span<const std::uint16_t> words)
     {
-        for (std::size_t r = refs.size(); r-- > 1;) {
-            if (!refs[r - 1].is_last()) to_end[r - 1] = to_end[r] + 1;
-            if (refs[r - 1].triangle() <= refs[r].triangle()) sorted_run[r - 1] = sorted_run[r] + 1;
+        for (std::size_t w = 0; w < words.size();) {
+            first_words.push_back(static_cast<std::uint32_t>(w));
+            starts.push_back(ids.size());
+            w = read_leaf(words, w, [&](std::uint32_t id) { ids.push_back(id); });
+            if (w == 0) break;  // (check_invariants refuses such a grid)
         }
+        starts.push_back(ids.size());
     }
 
-    [[nodiscard]] bool contains(const std::vector<TriangleRef>& refs, std::uint32_t first,
-                                std::uint32_t tri) const
+    [[nodiscard]] bool contains(std::uint32_t first_word, std::uint32_t tri) const
     {
-        const std::span<const TriangleRef> leaf(refs.data() + first, to_end[first]);
-        return sorted_run[first] >= leaf.size()
-                   ? std::ranges::binary_search(leaf, tri, {}, &TriangleRef::triangle)
-                   : std::ranges::find(leaf, tri, &TriangleRef::triangle) != leaf.end();
+        const auto at = std::ranges::lower_bound(first_words, first_word);
+        if (at == first_words.end() || *at != first_word) return false;
+        const auto leaf = static_cast<std::size_t>(at - first_words.begin());
+        const std::span<const std::uint32_t> leaf_ids(ids.data() + starts[leaf],
+                                                      starts[leaf + 1] - starts[leaf]);
+        return std::ranges::binary_search(leaf_ids, tri);
     }
 };
 
@@ -192,7 +198,7 @@ void check_triangle(const SplitGrid& grid, const LeafIndex& leaves,
     const std::string tri_name = "triangle " + std::to_string(tri);
     if (cell.is_empty()) fail(tri_name + " overlaps " + where + ", which is empty");
     if (cell.is_leaf()) {
-        if (!leaves.contains(grid.triangle_refs, cell.first_ref(), tri)) fail(tri_name + " overlaps " + where + " but is not in its leaf");
+        if (!leaves.contains(cell.first_word(), tri)) fail(tri_name + " overlaps " + where + " but is not in its leaf");
         return;
     }
     const std::uint32_t index = cell.child();
@@ -239,7 +245,7 @@ void check_coverage(const SplitGrid& grid, const MeshView& mesh)
         if (grid.triangle_count != 0) fail("root is empty but the mesh has triangles");
         return;
     }
-    const LeafIndex leaves(grid.triangle_refs);
+    const LeafIndex leaves(grid.leaf_words);
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, grid.triangle_count, 256),
                       [&](const tbb::blocked_range<std::uint32_t>& r) {
                           for (std::uint32_t t = r.begin(); t < r.end(); ++t) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "app_test_support.hpp"
+#include "support/leaf_triangles.hpp"
 #include "splitgrid/formats/mesh_import.hpp"
 #include "splitgrid/formats/sg_file.hpp"
 #include "splitgrid/query.hpp"
@@ -102,7 +103,7 @@ TEST(SgBench, QuickRunWritesResultsThatMatchTheInputs)
     const SplitGrid poster_grid = read_sg_file(poster).grid;
     for (const json& s : scene.at("structures")) {
         if (s.at("structure") != "splitgrid_poster") continue;
-        EXPECT_EQ(s.at("references"), poster_grid.triangle_refs.size());
+        EXPECT_EQ(s.at("references"), test::counted_references(poster_grid));
         EXPECT_EQ(s.at("structure_bytes"), poster_grid.memory_bytes());
     }
 #ifdef SG_BENCH_HAS_EMBREE

@@ -85,7 +85,7 @@ TEST_P(SgBuildModel, BuildsFileMatchingIndependentImport)
     EXPECT_EQ(grid.at("triangle_count"), contents.mesh.triangles.size());
     EXPECT_EQ(grid.at("node_count"), contents.grid.nodes.size());
     EXPECT_EQ(grid.at("cell_count"), contents.grid.cell_count());
-    EXPECT_EQ(grid.at("reference_count"), contents.grid.triangle_refs.size());
+    EXPECT_EQ(grid.at("reference_count"), test::counted_references(contents.grid));
     EXPECT_EQ(grid.at("reference_count"), count_leaf_references(contents.grid));
     EXPECT_EQ(grid.at("structure_bytes"), contents.grid.memory_bytes());
     EXPECT_EQ(grid.at("max_depth"), compute_stats(contents.grid).max_depth);
@@ -125,7 +125,7 @@ TEST(SgBuild, TextSummaryReportsCountsOfTheFile)
     const SgContents contents = read_sg_file(out);
     const std::string kept = std::to_string(contents.mesh.triangles.size()) + " kept";
     const std::string nodes = std::to_string(contents.grid.nodes.size()) + " nodes";
-    const std::string refs = std::to_string(contents.grid.triangle_refs.size()) + " references";
+    const std::string refs = std::to_string(test::counted_references(contents.grid)) + " references";
     for (const std::string& text : {kept, nodes, refs, std::string("bytes/triangle"),
                                     std::string("build"), out.string()})
         EXPECT_NE(run.out.find(text), std::string::npos) << text << " missing in\n" << run.out;

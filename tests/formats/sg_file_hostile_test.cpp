@@ -247,7 +247,7 @@ TEST_F(SgHostile, EveryFlippedByteWithoutChecksumsNeverCrashes)
 
 TEST_F(SgHostile, EveryHeaderByteChangeIsRefusedWithoutChecksums)
 {
-    // Every header byte but the CRC itself has exactly one valid value in version 4.
+    // Every header byte but the CRC itself has exactly one valid value in version 5.
     for (std::size_t i = 0; i < 80; ++i) {
         if (i >= 28 && i < 32) continue;
         std::vector<std::uint8_t> bad = bytes_;
@@ -260,26 +260,31 @@ TEST_F(SgHostile, EveryHeaderByteChangeIsRefusedWithoutChecksums)
 TEST_F(SgHostile, NewerVersionIsRefusedNamingTheVersion)
 {
     std::vector<std::uint8_t> newer = bytes_;
-    store_le<std::uint32_t>(newer, 8, 5);
-    EXPECT_EQ(refusal(newer, "new.sg"), "new.sg: format version 5 is newer than this reader's 4");
+    store_le<std::uint32_t>(newer, 8, 6);
+    EXPECT_EQ(refusal(newer, "new.sg"), "new.sg: format version 6 is newer than this reader's 5");
     store_le<std::uint32_t>(newer, 8, 4000000000u);
     EXPECT_EQ(refusal(newer, "new.sg"),
-              "new.sg: format version 4000000000 is newer than this reader's 4");
+              "new.sg: format version 4000000000 is newer than this reader's 5");
     // Version 1 stored 8-byte cells, version 2 a one-cell node's cell in CELL, version 3 one
-    // kind of inner cell: refused with a way out.
+    // kind of inner cell, version 4 4-byte references: refused with a way out.
     std::vector<std::uint8_t> older = bytes_;
     store_le<std::uint32_t>(older, 8, 1);
     EXPECT_EQ(refusal(older, "old.sg"),
-              "old.sg: format version 1 is no longer read (its cells are 8 bytes, version 4's "
+              "old.sg: format version 1 is no longer read (its cells are 8 bytes, version 5's "
               "are 4): build the file again with sg-build");
     store_le<std::uint32_t>(older, 8, 2);
     EXPECT_EQ(refusal(older, "old.sg"),
               "old.sg: format version 2 is no longer read (it keeps a one-cell node's cell in "
-              "CELL, version 4 in the node's record): build the file again with sg-build");
+              "CELL, version 5 in the node's record): build the file again with sg-build");
     store_le<std::uint32_t>(older, 8, 3);
     EXPECT_EQ(refusal(older, "old.sg"),
               "old.sg: format version 3 is no longer read (its inner cells do not say whether "
-              "their child has one cell, version 4's do): build the file again with sg-build");
+              "their child has one cell, version 5's do): build the file again with sg-build");
+    store_le<std::uint32_t>(older, 8, 4);
+    EXPECT_EQ(refusal(older, "old.sg"),
+              "old.sg: format version 4 is no longer read (its triangle references are 4 bytes "
+              "each, version 5 packs a leaf's into 16-bit words): build the file again with "
+              "sg-build");
 
     test::ScratchDir dir;
     store_le<std::uint32_t>(newer, 8, 7);
@@ -289,7 +294,7 @@ TEST_F(SgHostile, NewerVersionIsRefusedNamingTheVersion)
         FAIL() << "accepted";
     } catch (const FormatError& e) {
         EXPECT_EQ(std::string(e.what()),
-                  (dir / "v7.sg").string() + ": format version 7 is newer than this reader's 4");
+                  (dir / "v7.sg").string() + ": format version 7 is newer than this reader's 5");
     }
     EXPECT_THROW((void)read_sg_info(dir / "v7.sg"), FormatError);
 }
@@ -444,7 +449,15 @@ TEST_F(SgHostileIndex, NanVertexOfATriangle)
 TEST_F(SgHostileIndex, TriangleReferenceOutOfRange)
 {
     (void)refusal_of([](SgContents& c) {
-        c.grid.triangle_refs.back() = TriangleRef::make(c.grid.triangle_count, true);
+        // The first leaf's head names the triangle one past the last (its flags kept).
+        for (const CellRef& cell : c.grid.cells)
+            if (cell.is_leaf()) {
+                std::uint16_t* head = c.grid.leaf_words.data() + cell.first_word();
+                head[0] = static_cast<std::uint16_t>(c.grid.triangle_count & 0xFFFFu);
+                head[1] = static_cast<std::uint16_t>((head[1] & 0xC000u) |
+                                                     (c.grid.triangle_count >> 16));
+                return;
+            }
     });
 }
 
@@ -493,7 +506,7 @@ TEST_F(SgHostileIndex, LeafRangePastTheReferenceArray)
     (void)refusal_of([](SgContents& c) {
         for (CellRef& cell : c.grid.cells)
             if (cell.is_leaf()) {
-                cell = CellRef::make_leaf(static_cast<std::uint32_t>(c.grid.triangle_refs.size()));
+                cell = CellRef::make_leaf(static_cast<std::uint32_t>(c.grid.leaf_words.size()));
                 return;
             }
     });

@@ -67,7 +67,7 @@ TEST(SgFile, RoundTripOfABuiltGridIsEqual)
     test::ScratchDir dir;
     const SgContents original = random_contents(7, 500);
     ASSERT_GT(original.grid.nodes.size(), 1u) << "the test needs a grid with several nodes";
-    ASSERT_FALSE(original.grid.triangle_refs.empty());
+    ASSERT_FALSE(original.grid.leaf_words.empty());
 
     const auto path = dir / "random.sg";
     write_sg_file(path, original);
@@ -78,7 +78,7 @@ TEST(SgFile, RoundTripOfABuiltGridIsEqual)
     EXPECT_EQ(read.grid.root, original.grid.root);
     EXPECT_EQ(read.grid.nodes, original.grid.nodes);
     EXPECT_EQ(read.grid.cells, original.grid.cells);
-    EXPECT_EQ(read.grid.triangle_refs, original.grid.triangle_refs);
+    EXPECT_EQ(read.grid.leaf_words, original.grid.leaf_words);
     EXPECT_EQ(read.grid.triangle_count, 500u);
     EXPECT_EQ(read.source_name, "random_7.obj");
     EXPECT_EQ(read, original);
@@ -162,7 +162,7 @@ TEST(SgFile, LayoutMatchesFormatDocument)
 
     const std::array<std::uint8_t, 8> magic{0x89, 'S', 'G', 'F', '\r', '\n', 0x1A, '\n'};
     EXPECT_TRUE(std::equal(magic.begin(), magic.end(), f.begin()));
-    EXPECT_EQ(load_le<std::uint32_t>(f, 8), 4u) << "format version";
+    EXPECT_EQ(load_le<std::uint32_t>(f, 8), 5u) << "format version";
     EXPECT_EQ((std::array<std::uint8_t, 4>{f[12], f[13], f[14], f[15]}),
               (std::array<std::uint8_t, 4>{0x04, 0x03, 0x02, 0x01}))
         << "endianness marker 0x01020304 stored little-endian";
@@ -175,7 +175,7 @@ TEST(SgFile, LayoutMatchesFormatDocument)
     EXPECT_EQ(load_le<std::uint32_t>(f, 52), 12u) << "Triangle";
     EXPECT_EQ(load_le<std::uint32_t>(f, 56), 16u) << "GridNode";
     EXPECT_EQ(load_le<std::uint32_t>(f, 60), 4u) << "CellRef";
-    EXPECT_EQ(load_le<std::uint32_t>(f, 64), 4u) << "TriangleRef";
+    EXPECT_EQ(load_le<std::uint32_t>(f, 64), 2u) << "leaf word";
     EXPECT_EQ(load_le<std::uint32_t>(f, 68), 88u) << "config record";
     EXPECT_EQ(load_le<std::uint64_t>(f, 72), 0u) << "reserved";
 
@@ -186,14 +186,14 @@ TEST(SgFile, LayoutMatchesFormatDocument)
               ::crc32(0, head.data(), static_cast<uInt>(head.size())));
 
     const std::array<const char*, 7> tags{"CONF", "NAME", "VERT", "TRIS", "NODE", "CELL", "TREF"};
-    const std::array<std::uint64_t, 7> record_bytes{88, 1, 12, 12, 16, 4, 4};
+    const std::array<std::uint64_t, 7> record_bytes{88, 1, 12, 12, 16, 4, 2};
     const std::array<std::uint64_t, 7> counts{1,
                                               c.source_name.size(),
                                               c.mesh.vertices.size(),
                                               c.mesh.triangles.size(),
                                               c.grid.nodes.size(),
                                               c.grid.cells.size(),
-                                              c.grid.triangle_refs.size()};
+                                              c.grid.leaf_words.size()};
     std::uint64_t expected_offset = 80 + 7 * 32;
     for (std::size_t i = 0; i < 7; ++i) {
         SCOPED_TRACE(tags[i]);
@@ -264,12 +264,11 @@ TEST(SgFile, LayoutMatchesFormatDocument)
         cell.is_inner() && c.grid.nodes[cell.child()].resolution() == 1 ? 3u : 2u;
     EXPECT_EQ(load_le<std::uint32_t>(f, k) & 3u,
               cell.is_empty() ? 0u : (cell.is_leaf() ? 1u : inner_kind));
-    const TriangleRef ref = c.grid.triangle_refs[5];
-    EXPECT_EQ(load_le<std::uint32_t>(f, section_offset(6) + 4 * 5),
-              ref.triangle() | (ref.is_last() ? 0x80000000u : 0u));
-    // The last reference of the array ends a leaf.
-    EXPECT_NE(load_le<std::uint32_t>(f, section_offset(6) + 4 * (c.grid.triangle_refs.size() - 1)) &
-                  0x80000000u,
+    EXPECT_EQ(load_le<std::uint16_t>(f, section_offset(6) + 2 * 5), c.grid.leaf_words[5]);
+    // The array's last word ends a leaf: bit 15 is the last mark of a narrow reference, or
+    // the upper half's bit 31 of a head or wide reference.
+    EXPECT_NE(load_le<std::uint16_t>(f, section_offset(6) + 2 * (c.grid.leaf_words.size() - 1)) &
+                  0x8000u,
               0u);
 }
 
@@ -279,7 +278,7 @@ TEST(SgFile, InfoReadsTheHeaderAndTable)
     const SgContents c = random_contents(9, 150);
     write_sg_file(dir / "x.sg", c);
     const SgFileInfo info = read_sg_info(dir / "x.sg");
-    EXPECT_EQ(info.format_version, 4u);
+    EXPECT_EQ(info.format_version, 5u);
     EXPECT_EQ(info.file_bytes, std::filesystem::file_size(dir / "x.sg"));
     ASSERT_EQ(info.sections.size(), 7u);
     EXPECT_EQ(info.sections[2].name, "VERT");
@@ -288,7 +287,8 @@ TEST(SgFile, InfoReadsTheHeaderAndTable)
     EXPECT_EQ(info.sections[4].name, "NODE");
     EXPECT_EQ(info.sections[4].count, c.grid.nodes.size());
     EXPECT_EQ(info.sections[6].name, "TREF");
-    EXPECT_EQ(info.sections[6].count, c.grid.triangle_refs.size());
+    EXPECT_EQ(info.sections[6].count, c.grid.leaf_words.size());
+    EXPECT_EQ(info.sections[6].bytes, 2 * c.grid.leaf_words.size());
     const std::vector<std::uint8_t> bytes = test::read_bytes(dir / "x.sg");
     for (const SgSectionInfo& s : info.sections)
         EXPECT_EQ(s.crc32, ::crc32(0, bytes.data() + s.offset, static_cast<uInt>(s.bytes))) << s.name;
@@ -313,11 +313,11 @@ TEST(SgFile, StructureBytesPerTriangle)
     const SgContents c = random_contents(4, 400);
     const std::size_t structure = c.grid.memory_bytes();
     EXPECT_EQ(structure, 24 + 4 + 16 * c.grid.nodes.size() + 4 * c.grid.cells.size() +
-                             4 * c.grid.triangle_refs.size());
+                             2 * c.grid.leaf_words.size());
     const std::size_t file = encode_sg(c).size();
     std::size_t sections = 88 + c.source_name.size() + 12 * c.mesh.vertices.size() +
                            12 * c.mesh.triangles.size() + 16 * c.grid.nodes.size() +
-                           4 * c.grid.cells.size() + 4 * c.grid.triangle_refs.size();
+                           4 * c.grid.cells.size() + 2 * c.grid.leaf_words.size();
     EXPECT_GE(file, 80 + 224 + sections);
     EXPECT_LE(file, 80 + 224 + sections + 7 * 7) << "at most 7 padding bytes per section";
 }

@@ -12,6 +12,7 @@
 #include "splitgrid/stats.hpp"
 #include "splitgrid/traverse.hpp"
 #include "splitgrid/validate.hpp"
+#include "support/leaf_triangles.hpp"
 #include "support/one_cell_nodes.hpp"
 #include "support/oracle.hpp"
 #include "support/random_scene.hpp"
@@ -122,12 +123,12 @@ TEST(Builder, RebuildGivesWhatABuildGivesAndReusesTheArrays)
     // The same mesh again: the same sizes, so the very same arrays.
     const GridNode* nodes = grid.nodes.data();
     const CellRef* cells = grid.cells.data();
-    const TriangleRef* refs = grid.triangle_refs.data();
+    const std::uint16_t* words = grid.leaf_words.data();
     rebuild_split_grid(grid, mesh.view(), BuildConfig{});
     EXPECT_TRUE(grid == build_split_grid(mesh.view(), BuildConfig{}));
     EXPECT_EQ(grid.nodes.data(), nodes);
     EXPECT_EQ(grid.cells.data(), cells);
-    EXPECT_EQ(grid.triangle_refs.data(), refs);
+    EXPECT_EQ(grid.leaf_words.data(), words);
 
     for (Vec3f& v : mesh.vertices) v = Vec3f{v.x + 0.3f * std::sin(v.y), v.y, v.z * 0.9f};
     rebuild_split_grid(grid, mesh.view(), BuildConfig{});
@@ -181,7 +182,7 @@ TEST(Builder, ManyCopiesOfOneTriangleStopSplitting)
     const SplitGrid grid = build_checked(mesh);
     // Every cell would receive every copy, so the builder must give up at once.
     EXPECT_LE(grid.nodes.size(), 1u);
-    EXPECT_LE(grid.triangle_refs.size(), 200000u);
+    EXPECT_LE(test::counted_references(grid), 200000u);
     const Hit hit = intersect(grid, mesh.view(), Ray{{0.1f, 0.1f, 5.0f}, {0, 0, -1}});
     EXPECT_TRUE(hit.is_hit());
 }
@@ -215,7 +216,7 @@ TEST(Builder, AFanAroundAVertexEndsInALeafAndNotAtTheDepthLimit)
         const SplitGrid grid = build_checked(mesh, config);
         const GridStats stats = compute_stats(grid);
         EXPECT_LE(stats.max_depth, 12u) << "bounding nodes " << bounding_nodes;
-        EXPECT_LE(grid.triangle_refs.size(), 10u * spokes) << "bounding nodes " << bounding_nodes;
+        EXPECT_LE(test::counted_references(grid), 10u * spokes) << "bounding nodes " << bounding_nodes;
         const auto rays = test::rays_at_triangles(6, 4000, box10, mesh.view());
         const auto r = test::compare_with_brute_force(grid, mesh.view(), rays);
         EXPECT_EQ(r.closest_disagreements + r.any_hit_disagreements, 0u) << r.first_failure;
@@ -241,8 +242,7 @@ TEST(Builder, TrianglesAreReferencedOnlyWhereTheyReallyAre)
     const Mesh mesh = small_triangles_and_a_diagonal_sliver();
     const auto sliver = static_cast<std::uint32_t>(mesh.triangles.size() - 1);
     const SplitGrid grid = build_checked(mesh);
-    std::size_t sliver_refs = 0;
-    for (TriangleRef r : grid.triangle_refs) sliver_refs += (r.triangle() == sliver) ? 1 : 0;
+    const std::size_t sliver_refs = test::references_to(grid, sliver);
     const GridStats stats = compute_stats(grid);
     EXPECT_GT(sliver_refs, 0u);
     // Clipping keeps the sliver to the cells along the diagonal: far fewer than the leaves.
@@ -255,11 +255,7 @@ TEST(Builder, WithoutClippingTheSliverIsReferencedByItsBoundingBoxAndStillFound)
     // scene, so it lands in far more cells; the grid stays exact.
     const Mesh mesh = small_triangles_and_a_diagonal_sliver();
     const auto sliver = static_cast<std::uint32_t>(mesh.triangles.size() - 1);
-    auto refs_of_sliver = [&](const SplitGrid& g) {
-        std::size_t n = 0;
-        for (TriangleRef r : g.triangle_refs) n += (r.triangle() == sliver) ? 1 : 0;
-        return n;
-    };
+    auto refs_of_sliver = [&](const SplitGrid& g) { return test::references_to(g, sliver); };
     BuildConfig config;
     const std::size_t clipped = refs_of_sliver(build_checked(mesh, config));
     config.clip_triangles = false;

@@ -61,7 +61,7 @@ TEST(Stats, CountsMatchAnIndependentWalk)
     for (const auto& [depth, count] : per_depth) EXPECT_EQ(s.nodes_per_depth[depth], count);
     EXPECT_DOUBLE_EQ(s.duplication_factor, double(refs) / 8000.0);
     EXPECT_EQ(s.structure_bytes, grid.nodes.size() * 16 + grid.cells.size() * 4 +
-                                     grid.triangle_refs.size() * 4 + 24 + 4);
+                                     grid.leaf_words.size() * 2 + 24 + 4);
     std::size_t hist_total = 0;
     for (std::size_t h : s.leaf_size_histogram) hist_total += h;
     EXPECT_EQ(hist_total, leaves);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -59,12 +60,16 @@ TEST(Validate, RefusesEachKindOfCorruption)
     expect_refused(g, "more than one cell");
 
     g = f.grid;
-    g.cells[leaf] = CellRef::make_leaf(static_cast<std::uint32_t>(g.triangle_refs.size()));
+    g.cells[leaf] = CellRef::make_leaf(static_cast<std::uint32_t>(g.leaf_words.size()));
     expect_refused(g, "out of range");
 
+    // The leaf's head names the triangle one past the mesh's last (its flags kept).
     g = f.grid;
-    g.triangle_refs[7] = TriangleRef::make(g.triangle_count, g.triangle_refs[7].is_last());
-    expect_refused(g, "names triangle");
+    const std::size_t head = g.cells[leaf].first_word();
+    g.leaf_words[head] = static_cast<std::uint16_t>(g.triangle_count & 0xFFFFu);
+    g.leaf_words[head + 1] = static_cast<std::uint16_t>((g.leaf_words[head + 1] & 0xC000u) |
+                                                        (g.triangle_count >> 16));
+    expect_refused(g, "names triangle " + std::to_string(g.triangle_count));
 
     // Two leaves sharing one list of references.
     g = f.grid;
@@ -77,10 +82,34 @@ TEST(Validate, RefusesEachKindOfCorruption)
     g.cells[other_leaf] = g.cells[leaf];
     expect_refused(g, "also belongs to another leaf");
 
-    // The last reference lost its end mark: the list would run off the array.
+    // The last reference lost its end mark (bit 15 of the array's last word, in each of the
+    // leaf's forms): the leaf would run off the array.
     g = f.grid;
-    g.triangle_refs.back() = TriangleRef::make(g.triangle_refs.back().triangle(), false);
-    expect_refused(g, "without one marked last");
+    g.leaf_words.back() = static_cast<std::uint16_t>(g.leaf_words.back() & 0x7FFFu);
+    expect_refused(g, "runs past the end of the array");
+
+    // Two references of a narrow leaf swapped: its ids are no longer ascending.
+    g = f.grid;
+    bool swapped = false;
+    for (const CellRef& cell : g.cells) {
+        std::vector<std::uint16_t>& words = g.leaf_words;
+        const std::size_t w = cell.first_word();
+        if (!cell.is_leaf() || (words[w + 1] & 0xC000u) != 0 || (words[w + 2] & 0x8000u) != 0)
+            continue;  // wide, one reference, or two
+        const auto second = static_cast<std::uint16_t>(words[w + 2]);
+        words[w + 2] = static_cast<std::uint16_t>(words[w + 3] & 0x7FFFu);
+        words[w + 3] = static_cast<std::uint16_t>(second | (words[w + 3] & 0x8000u));
+        swapped = true;
+        break;
+    }
+    ASSERT_TRUE(swapped);
+    expect_refused(g, "not strictly ascending");
+
+    // A wide head marked last: not a leaf the encoder makes.
+    g = f.grid;
+    g.root = CellRef::make_leaf(static_cast<std::uint32_t>(g.leaf_words.size()));
+    g.leaf_words.insert(g.leaf_words.end(), {0x0000, 0xC000});
+    expect_refused(g, "not a valid leaf");
 
     // A word that is no cell at all: an empty kind with an index.
     g = f.grid;  // (the first leaf's index is 0, and a zero word is a valid empty cell)
@@ -160,7 +189,7 @@ TEST(Validate, RefusesEachKindOfCorruption)
     expect_refused(g, "is not a valid cell");
     g = f.grid;
     g.nodes[single].set_only_cell(
-        CellRef::make_leaf(static_cast<std::uint32_t>(g.triangle_refs.size())));
+        CellRef::make_leaf(static_cast<std::uint32_t>(g.leaf_words.size())));
     expect_refused(g, "out of range");
 
     g = f.grid;
@@ -184,11 +213,11 @@ TEST(Validate, RefusesTwoNodesSharingABlockOfCells)
                GridNode::make(1, 0.0f, 1.0f, 2, 4)};
     g.cells = {CellRef::make_inner(1, 2), CellRef::make_inner(2, 2), CellRef{}, CellRef{},
                CellRef::make_leaf(0), CellRef{}};
-    g.triangle_refs = {TriangleRef::make(0, true)};
+    g.leaf_words = {0x0000, 0x8000};  // one leaf: triangle 0, marked last
     // As built (node 2 owns cells 4..5) the grid is valid: the leaf is reached through node 2.
     EXPECT_NO_THROW(check_invariants(g));
     g.nodes[2] = GridNode::make(1, 0.0f, 1.0f, 2, 2);
-    g.triangle_refs.clear();
+    g.leaf_words.clear();
     g.cells[4] = CellRef{};
     expect_refused(g, "also belongs to another node");
 }
@@ -206,7 +235,7 @@ TEST(Validate, RefusesTreesDeeperThanTheTraversalStack)
                                                       ? CellRef::make_leaf(0)
                                                       : CellRef::make_inner(d + 1, 1)));
     }
-    g.triangle_refs = {TriangleRef::make(0, true)};
+    g.leaf_words = {0x0000, 0x8000};
     expect_refused(g, "deeper than");
     g.nodes.resize(max_supported_depth + 1);
     g.nodes.back().set_only_cell(CellRef::make_leaf(0));
@@ -217,11 +246,21 @@ TEST(Validate, CoverageCatchesAMissingReference)
 {
     Fixture f;
     // Remove one triangle from one leaf that holds several: coverage must notice.
+    // The leaf's first id is replaced by its second, as a narrow leaf of two or more references
+    // says it: the head names the second id, the first further word offset 0, the rest shifted.
+    std::vector<std::uint16_t>& words = f.grid.leaf_words;
     for (CellRef& cell : f.grid.cells) {
-        if (!cell.is_leaf() || f.grid.triangle_refs[cell.first_ref()].is_last()) continue;
-        const std::uint32_t dropped = f.grid.triangle_refs[cell.first_ref()].triangle();
-        f.grid.triangle_refs[cell.first_ref()] =
-            TriangleRef::make(f.grid.triangle_refs[cell.first_ref() + 1].triangle(), false);
+        const std::size_t w = cell.first_word();
+        if (!cell.is_leaf() || (words[w + 1] & 0xC000u) != 0) continue;  // wide, or one reference
+        const std::uint32_t dropped = words[w] | (std::uint32_t{words[w + 1]} << 16);
+        const std::uint32_t shift = words[w + 2] & 0x7FFFu;
+        const std::uint32_t second = dropped + shift;
+        words[w] = static_cast<std::uint16_t>(second & 0xFFFFu);
+        words[w + 1] = static_cast<std::uint16_t>(second >> 16);
+        for (std::size_t k = w + 2;; ++k) {
+            words[k] = static_cast<std::uint16_t>(words[k] - shift);
+            if ((words[k] & 0x8000u) != 0) break;
+        }
         try {
             check_coverage(f.grid, f.mesh.view());
             FAIL() << "coverage accepted a leaf without triangle " << dropped;

@@ -196,11 +196,15 @@ TEST(MultiCell, LongThinTrianglesAmongSmallOnesAgreeWithBruteForce)
     const std::vector<Ray> sample(rays.begin(), rays.begin() + 300);
     ASSERT_EQ(oracle.self_check(sample), 0u) << "the culled oracle differs from brute force";
     const OracleReport r = oracle.compare(grid, rays);
-    std::size_t referenced_long = 0;
-    for (TriangleRef t : grid.triangle_refs) referenced_long += t.triangle() < each ? 1 : 0;
+    std::size_t referenced_long = 0, references = 0;
+    for (const auto& leaf : all_leaves(grid))
+        for (std::uint32_t t : leaf) {
+            referenced_long += t < each ? 1 : 0;
+            ++references;
+        }
     std::printf("[ multi    ] %zu long thin + %zu small triangles, %zu references (%.1f per long "
                 "triangle): %zu rays, %zu disagreements, %zu hits\n",
-                each, each, grid.triangle_refs.size(),
+                each, each, references,
                 static_cast<double>(referenced_long) / static_cast<double>(each), r.rays,
                 r.closest_disagreements + r.any_hit_disagreements, r.hits);
     EXPECT_EQ(r.closest_disagreements, 0u) << r.first_failure;

@@ -170,7 +170,7 @@ struct WorkBound {
     std::size_t max_leaf = 0;
 
     explicit WorkBound(const SplitGrid& grid)
-        : nodes(grid.nodes.size()), references(grid.triangle_refs.size())
+        : nodes(grid.nodes.size()), references(counted_references(grid))
     {
         for (const GridNode& n : grid.nodes) {
             max_resolution = std::max<std::size_t>(max_resolution, n.resolution());

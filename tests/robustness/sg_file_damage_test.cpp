@@ -113,7 +113,7 @@ std::string header_field_message(std::size_t byte)
     if (byte < 48) return "section table offset";
     static const std::array<const char*, 6> records{"vertex record size", "triangle record size",
                                                     "node record size", "cell record size",
-                                                    "triangle reference size",
+                                                    "leaf word size",
                                                     "config record size"};
     if (byte < 72) return records[(byte - 48) / 4];
     return "reserved header field is not zero";
@@ -356,7 +356,14 @@ TEST_F(SgDamage, ValidChecksumsWithBadIndicesCyclesAndNanPlanesStayWithinTheMemo
     // The forgeries of sg_file_hostile_test.cpp's SgHostileIndex, for the memory bound.
     std::vector<SgContents> forged(5, contents_);
     forged[0].mesh.triangles[3].v[1] = static_cast<std::uint32_t>(contents_.mesh.vertices.size());
-    forged[1].grid.triangle_refs.back() = TriangleRef::make(contents_.grid.triangle_count, true);
+    for (const CellRef& cell : forged[1].grid.cells)
+        if (cell.is_leaf()) {  // its head names the triangle past the last, flags kept
+            std::uint16_t* head = forged[1].grid.leaf_words.data() + cell.first_word();
+            head[0] = static_cast<std::uint16_t>(contents_.grid.triangle_count & 0xFFFFu);
+            head[1] = static_cast<std::uint16_t>((head[1] & 0xC000u) |
+                                                 (contents_.grid.triangle_count >> 16));
+            break;
+        }
     for (CellRef& cell : forged[2].grid.cells)
         if (cell.is_inner()) {
             cell = CellRef::make_inner(0, contents_.grid.nodes[0].resolution());  // a cycle

@@ -224,7 +224,7 @@ TEST(Termination, RaysThroughTheDeepestAcceptedChainReachItsLeaf)
                                                       ? CellRef::make_leaf(0)
                                                       : CellRef::make_inner(d + 1, 1)));
     }
-    g.triangle_refs = {TriangleRef::make(0, true)};
+    g.leaf_words = {0x0000, 0x8000};  // one leaf: triangle 0, marked last
     Mesh mesh;
     mesh.vertices = {{0.0f, 0.0f, 0.5f}, {1.0f, 0.0f, 0.5f}, {0.0f, 1.0f, 0.5f}};
     mesh.triangles = {Triangle{{0, 1, 2}}};

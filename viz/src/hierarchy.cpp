@@ -11,14 +11,14 @@ double cell_cost(const Hierarchy& hierarchy, const CellRef& cell, const Aabb& ce
     if (cell.is_inner()) return hierarchy.nodes[cell.child()].subtree_cost;
     if (cell.is_leaf() && hierarchy.root_area > 0.0)
         return cell_box.surface_area() / hierarchy.root_area * hierarchy.model.triangle_cost *
-               static_cast<double>(leaf_refs(*hierarchy.grid, cell).size());
+               static_cast<double>(leaf_size(*hierarchy.grid, cell));
     return 0.0;
 }
 
 std::uint64_t cell_references(const Hierarchy& hierarchy, const CellRef& cell) noexcept
 {
     if (cell.is_inner()) return hierarchy.nodes[cell.child()].subtree_references;
-    return cell.is_leaf() ? leaf_refs(*hierarchy.grid, cell).size() : 0;
+    return cell.is_leaf() ? leaf_size(*hierarchy.grid, cell) : 0;
 }
 
 Hierarchy analyse_hierarchy(const SplitGrid& grid, const CostModel& model)

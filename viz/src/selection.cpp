@@ -51,7 +51,7 @@ CellRecord root_cell_record(const SplitGrid& grid, const Hierarchy& hierarchy)
     CellRecord r;
     r.box = grid.root_box;
     r.kind = grid.root.kind();
-    r.triangle_count = grid.root.is_leaf() ? leaf_refs(grid, grid.root).size() : 0;
+    r.triangle_count = grid.root.is_leaf() ? leaf_size(grid, grid.root) : 0;
     r.cost_share = hierarchy.total_cost > 0.0 ? 1.0 : 0.0;
     return r;
 }

@@ -232,9 +232,12 @@ vtkSmartPointer<vtkPolyData> make_mesh_block(const SplitGrid& grid, const MeshVi
 
     auto reference_count = named_array<vtkTypeInt64Array>("reference_count", triangles);
     reference_count->FillValue(0);
-    for (const TriangleRef r : grid.triangle_refs) {
-        const vtkIdType t = r.triangle();
-        if (t < triangles) reference_count->SetValue(t, reference_count->GetValue(t) + 1);
+    for (std::size_t w = 0; w < grid.leaf_words.size();) {
+        w = read_leaf(grid.leaf_words, w, [&](std::uint32_t id) {
+            const auto t = static_cast<vtkIdType>(id);
+            if (t < triangles) reference_count->SetValue(t, reference_count->GetValue(t) + 1);
+        });
+        if (w == 0) break;
     }
 
     auto block = vtkSmartPointer<vtkPolyData>::New();
@@ -274,7 +277,7 @@ void add_field_data(vtkDataObject& block, const FieldFacts& facts)
     add_field<vtkTypeInt64Array>(f, "grid_cell_count",
                                  static_cast<vtkTypeInt64>(grid.cell_count()));
     add_field<vtkTypeInt64Array>(f, "grid_reference_count",
-                                 static_cast<vtkTypeInt64>(grid.triangle_refs.size()));
+                                 static_cast<vtkTypeInt64>(reference_count(grid)));
     add_field<vtkDoubleArray>(f, "grid_expected_cost", facts.expected_cost);
 
     // -1 stands for "no limit" / "whole structure".

@@ -15,7 +15,7 @@ inline constexpr std::uint32_t max_node_resolution = (1u << max_resolution_bits)
 /// refined by a child GridNode.
 enum class CellKind : std::uint8_t { Empty, Leaf, Inner };
 
-/// Largest index a CellRef can hold (first reference of a leaf, or child node): 2^30 - 1.
+/// Largest index a CellRef can hold (first word of a leaf, or child node): 2^30 - 1.
 inline constexpr std::uint32_t max_cell_index = (1u << 30) - 1u;
 
 /// One cell of a node (or the root cell of the whole structure).
@@ -23,10 +23,10 @@ inline constexpr std::uint32_t max_cell_index = (1u << 30) - 1u;
 /// Layout (4 bytes, 4-byte aligned), one uint32 word:
 ///   bits 0-1   kind: 0 = empty, 1 = leaf, 2 = inner with a child of two or more cells,
 ///              3 = inner with a one-cell child (a bounding node)
-///   bits 2-31  index: Leaf: the first triangle reference in SplitGrid::triangle_refs;
+///   bits 2-31  index: Leaf: its first word in SplitGrid::leaf_words (leaf_words.hpp);
 ///              Inner: the child node in SplitGrid::nodes; Empty: 0
-/// A leaf's references run from its first one to the first reference that has its last
-/// bit set (TriangleRef), so the cell needs no count. The poster does not give a cell layout;
+/// A leaf's words end at the reference marked last (leaf_words.hpp), so the cell needs no
+/// count. The poster does not give a cell layout;
 /// this one keeps a leaf's references contiguous, so a leaf costs one 4-byte read plus its
 /// references, and makes a node's cells half the size of an (index, count) pair: on the
 /// Stanford bunny the cells went from 13.0 to 6.5 bytes per triangle.
@@ -36,12 +36,12 @@ inline constexpr std::uint32_t max_cell_index = (1u << 30) - 1u;
 class CellRef {
 public:
     [[nodiscard]] static constexpr CellRef make_empty() noexcept { return {}; }
-    /// Throws ConfigError if first_ref is above max_cell_index.
-    [[nodiscard]] static CellRef make_leaf(std::uint32_t first_ref)
+    /// Throws ConfigError if first_word is above max_cell_index.
+    [[nodiscard]] static CellRef make_leaf(std::uint32_t first_word)
     {
-        if (first_ref > max_cell_index)
-            throw ConfigError("CellRef: leaf reference index must be below 2^30");
-        return CellRef((first_ref << 2) | leaf_tag);
+        if (first_word > max_cell_index)
+            throw ConfigError("CellRef: leaf word index must be below 2^30");
+        return CellRef((first_word << 2) | leaf_tag);
     }
     /// An inner cell refined by node `child_node` of `child_resolution` cells. Throws
     /// ConfigError if child_node is above max_cell_index.
@@ -79,9 +79,9 @@ public:
     {
         return is_empty() || is_leaf() || is_inner();
     }
-    /// Leaf: first triangle reference. Inner: child node. Empty: 0.
+    /// Leaf: its first word in SplitGrid::leaf_words. Inner: child node. Empty: 0.
     [[nodiscard]] constexpr std::uint32_t index() const noexcept { return bits_ >> 2; }
-    [[nodiscard]] constexpr std::uint32_t first_ref() const noexcept { return bits_ >> 2; }
+    [[nodiscard]] constexpr std::uint32_t first_word() const noexcept { return bits_ >> 2; }
     [[nodiscard]] constexpr std::uint32_t child() const noexcept { return bits_ >> 2; }
     /// Raw word, for file I/O and validation only.
     [[nodiscard]] constexpr std::uint32_t raw_bits() const noexcept { return bits_; }
@@ -188,48 +188,5 @@ private:
 static_assert(sizeof(GridNode) == 16 && alignof(GridNode) == 4,
               "GridNode must be 16 bytes (2 floats + 2 uint32) with no padding");
 static_assert(std::is_trivially_copyable_v<GridNode>, "GridNode is stored in .sg files as bytes");
-
-/// Largest triangle id a TriangleRef can hold: 2^31 - 2 (2^31 - 1 would collide with the
-/// largest raw word, kept free so no valid reference is all ones).
-inline constexpr std::uint32_t max_referenced_triangle = (1u << 31) - 2u;
-
-/// One triangle reference of a leaf (4 bytes, one uint32 word):
-///   bits 0-30  triangle id (a position in the mesh's triangle array)
-///   bit  31    set on the last reference of its leaf
-/// The leaf's cell points at its first reference; the list ends at the reference with the
-/// last bit set. Each leaf has at least one reference.
-class TriangleRef {
-public:
-    static constexpr std::uint32_t last_bit = 1u << 31;
-
-    /// Throws ConfigError if triangle is above max_referenced_triangle.
-    [[nodiscard]] static TriangleRef make(std::uint32_t triangle, bool is_last)
-    {
-        if (triangle > max_referenced_triangle)
-            throw ConfigError("TriangleRef: triangle id must be below 2^31 - 1");
-        return TriangleRef(triangle | (is_last ? last_bit : 0u));
-    }
-    /// Rebuilds a reference from its raw word without checks (file reader).
-    [[nodiscard]] static constexpr TriangleRef from_raw(std::uint32_t bits) noexcept
-    {
-        return TriangleRef(bits);
-    }
-
-    [[nodiscard]] constexpr std::uint32_t triangle() const noexcept { return bits_ & ~last_bit; }
-    [[nodiscard]] constexpr bool is_last() const noexcept { return (bits_ & last_bit) != 0; }
-    [[nodiscard]] constexpr std::uint32_t raw_bits() const noexcept { return bits_; }
-
-    friend constexpr bool operator==(const TriangleRef&, const TriangleRef&) = default;
-
-    constexpr TriangleRef() = default;
-
-private:
-    explicit constexpr TriangleRef(std::uint32_t bits) : bits_(bits) {}
-    std::uint32_t bits_ = 0;
-};
-static_assert(sizeof(TriangleRef) == 4 && alignof(TriangleRef) == 4,
-              "TriangleRef must be one uint32 word with no padding");
-static_assert(std::is_trivially_copyable_v<TriangleRef>,
-              "TriangleRef is stored in .sg files as bytes");
 
 }  // namespace sg

@@ -8,6 +8,7 @@
 #include "splitgrid/aabb.hpp"
 #include "splitgrid/build_config.hpp"
 #include "splitgrid/grid_node.hpp"
+#include "splitgrid/leaf_words.hpp"
 
 namespace sg {
 
@@ -19,13 +20,14 @@ namespace sg {
 /// leaf for a mesh too small to split, otherwise inner with child node 0.
 /// Nodes are in depth-first pre-order; the cells of each node of two or more cells are
 /// contiguous in `cells` (a one-cell node holds its cell in its record: GridNode), and each
-/// leaf's references contiguous in `triangle_refs`, the last one marked (TriangleRef).
+/// leaf's references contiguous in `leaf_words`, in the encoding of leaf_words.hpp.
 struct SplitGrid {
     Aabb root_box;
     CellRef root;
     std::vector<GridNode> nodes;
     std::vector<CellRef> cells;
-    std::vector<TriangleRef> triangle_refs;
+    /// The leaves' triangle references, 16-bit words (leaf_words.hpp).
+    std::vector<std::uint16_t> leaf_words;
     /// Number of triangles in the mesh the grid was built for (ids are < triangle_count).
     std::uint32_t triangle_count = 0;
     /// The parameters the grid was built with; `threads` is always 0 (the result does not
@@ -36,7 +38,7 @@ struct SplitGrid {
     [[nodiscard]] std::size_t memory_bytes() const noexcept
     {
         return sizeof(root_box) + sizeof(root) + nodes.size() * sizeof(GridNode) +
-               cells.size() * sizeof(CellRef) + triangle_refs.size() * sizeof(TriangleRef);
+               cells.size() * sizeof(CellRef) + leaf_words.size() * sizeof(std::uint16_t);
     }
 
     /// Cells of all nodes, the sum of their resolutions: `cells` plus one per one-cell node
@@ -59,16 +61,21 @@ struct SplitGrid {
     return node.resolution() == 1 ? node.only_cell() : grid.cells[node.first_cell() + i];
 }
 
-/// The references of a leaf cell: from its first one to the first with the last bit set.
-/// Precondition: `leaf` is a leaf of `grid` and check_invariants(grid) passes. Cost: linear
-/// in the leaf's size.
-[[nodiscard]] inline std::span<const TriangleRef> leaf_refs(const SplitGrid& grid,
-                                                          CellRef leaf) noexcept
+/// Number of triangle references of a leaf cell, without allocating (its ids: leaf_ids in
+/// leaf_words.hpp). Precondition: `leaf` is a leaf of `grid`; 0 if the leaf is not well formed
+/// (check_invariants refuses such a grid).
+[[nodiscard]] inline std::size_t leaf_size(const SplitGrid& grid, CellRef leaf) noexcept
 {
-    const TriangleRef* const first = grid.triangle_refs.data() + leaf.first_ref();
-    const TriangleRef* last = first;
-    while (!last->is_last()) ++last;
-    return {first, static_cast<std::size_t>(last - first) + 1};
+    std::size_t n = 0;
+    (void)read_leaf(grid.leaf_words, leaf.first_word(), [&](std::uint32_t) { ++n; });
+    return n;
+}
+
+/// Number of triangle references of all leaves. Precondition: check_invariants(grid) passes
+/// (so the leaves fill `leaf_words` one after another).
+[[nodiscard]] inline std::size_t reference_count(const SplitGrid& grid)
+{
+    return count_references(grid.leaf_words);
 }
 
 }  // namespace sg

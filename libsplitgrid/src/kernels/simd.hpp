@@ -86,4 +86,36 @@ typedef std::int32_t vint __attribute__((vector_size(32)));
     return v;
 }
 
+/// The 16-bit words[0, n) zero-extended into lanes 0 .. n - 1, one 16-byte load where the array
+/// holds lane_count words from `words` on (`end` is the array's end); the other lanes are
+/// unspecified (valid words of the array, or 0).
+[[nodiscard]] inline vint load_words(const std::uint16_t* words, std::uint32_t n,
+                                     const std::uint16_t* end) noexcept
+{
+    typedef std::uint16_t vword __attribute__((vector_size(16)));
+    vword w = {};
+    if (end - words >= lane_count)
+        std::memcpy(&w, words, sizeof w);
+    else
+        for (std::uint32_t l = 0; l < n; ++l) w[l] = words[l];
+    return __builtin_convertvector(w, vint);
+}
+
+/// The 32-bit values of word pairs (low half first) from `words` into lanes 0 .. n - 1, as
+/// load_ids; `end` is the end of the array of 16-bit words.
+[[nodiscard]] inline vint load_pairs(const std::uint16_t* words, std::uint32_t n,
+                                     const std::uint16_t* end) noexcept
+{
+    vint v;
+    if (end - words >= 2 * lane_count) {
+        std::memcpy(&v, words, sizeof v);
+        return v;
+    }
+    v = splat(std::int32_t{0});
+    for (std::uint32_t l = 0; l < n; ++l)
+        v[l] = static_cast<std::int32_t>(std::uint32_t{words[2 * l]} |
+                                         (std::uint32_t{words[2 * l + 1]} << 16));
+    return v;
+}
+
 }  // namespace sg::kernels::SG_KERNEL_ISA

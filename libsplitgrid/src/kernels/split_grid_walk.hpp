@@ -132,16 +132,16 @@ private:
     {
         const std::uintptr_t node = reinterpret_cast<std::uintptr_t>(grid_.nodes.data()) +
                                     std::uintptr_t{next.child()} * sizeof(GridNode);
-        const std::uintptr_t refs = reinterpret_cast<std::uintptr_t>(grid_.triangle_refs.data()) +
-                                    std::uintptr_t{next.first_ref()} * sizeof(TriangleRef);
+        const std::uintptr_t refs = reinterpret_cast<std::uintptr_t>(grid_.leaf_words.data()) +
+                                    std::uintptr_t{next.first_word()} * sizeof(std::uint16_t);
         __builtin_prefetch(reinterpret_cast<const void*>(next.is_inner() ? node : refs));
     }
 
     bool test_leaf_cell(CellRef cell) noexcept
     {
-        const TriangleRef* refs = grid_.triangle_refs.data();
-        return test_marked_leaf<test>(ray_, mesh_, search_, mailbox_, refs + cell.first_ref(),
-                                      refs + grid_.triangle_refs.size());
+        const std::uint16_t* words = grid_.leaf_words.data();
+        return test_packed_leaf<test>(ray_, mesh_, search_, mailbox_, words + cell.first_word(),
+                                      words + grid_.leaf_words.size());
     }
 
     // Enters the child of the inner cell `inner`: clips [n0, n1] to the node's slab and sets

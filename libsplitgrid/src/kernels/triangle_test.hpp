@@ -206,38 +206,68 @@ inline bool test_id_leaf(const KernelRay& ray, const MeshArrays& mesh, Search& s
     }
 }
 
-/// Tests one Split Grid leaf: its references from `first` to the one with the last bit set
-/// (TriangleRef), `lane_count` at a time, skipping those `mailbox` has seen; `refs_end` is the end
-/// of the reference array. The leaf's length comes from the lane mask of the last bits, so no
-/// loop runs per reference. True if a hit was kept.
+/// One batch of a Split Grid leaf's ids, in lanes 0 .. available - 1, the leaf ending at the
+/// first lane set in `last_bits` (none set: it goes on after the batch): tests those `mailbox`
+/// has not seen. True if a hit was kept.
 template <TriangleTest test, class Search, class Box>
-inline bool test_marked_leaf(const KernelRay& ray, const MeshArrays& mesh, Search& search,
-                             Box& mailbox, const TriangleRef* first,
-                             const TriangleRef* refs_end) noexcept
+inline bool test_leaf_batch(const KernelRay& ray, const MeshArrays& mesh, Search& search,
+                            Box& mailbox, vint id, std::uint32_t last_bits,
+                            std::uint32_t available) noexcept
 {
-    static_assert(sizeof(TriangleRef) == sizeof(std::uint32_t));
-    bool kept = false;
     const vint lane_index = {0, 1, 2, 3, 4, 5, 6, 7};
-    for (;;) {
-        const auto* words = reinterpret_cast<const std::uint32_t*>(first);
-        const auto available = static_cast<std::uint32_t>(
-            std::min<std::ptrdiff_t>(refs_end - first, lane_count));
-        const vint raw = load_ids(words, available, reinterpret_cast<const std::uint32_t*>(refs_end));
-        // The last bit is the sign bit: the lanes at and after the leaf's last reference.
+    const std::uint32_t n = last_bits != 0 ? static_cast<std::uint32_t>(__builtin_ctz(last_bits)) + 1
+                                           : available;
+    id = (lane_index < static_cast<std::int32_t>(n)) ? id : splat(id[0]);
+    const std::uint32_t fresh = mailbox.filter(id, (1u << n) - 1u);
+    return fresh != 0 && test_lanes<test>(ray, mesh, id, fresh, search);
+}
+
+/// Tests one Split Grid leaf, the words from `leaf` on (leaf_words.hpp), `lane_count` references
+/// at a time, skipping those `mailbox` has seen; `end` is the end of the word array. The leaf's
+/// length comes from the lane mask of the last bits, so no loop runs per reference. True if a
+/// hit was kept.
+template <TriangleTest test, class Search, class Box>
+inline bool test_packed_leaf(const KernelRay& ray, const MeshArrays& mesh, Search& search,
+                             Box& mailbox, const std::uint16_t* leaf,
+                             const std::uint16_t* end) noexcept
+{
+    bool kept = false;
+    // (A leaf has its two head words and ends at a marked reference, check_invariants makes
+    // sure; the array's end stops a damaged one.)
+    const std::uint32_t head = leaf_pair(leaf);
+    if ((head & leaf_code::wide_bit) == 0) {
+        // Lane 0 is the head: its upper word keeps only the head's last bit (bit 15 of that
+        // word), so its offset is 0; lanes 1 .. 7 are the words after the head.
+        const vint base = splat(static_cast<std::int32_t>(head & leaf_code::id_mask));
+        vint keep = {static_cast<std::int32_t>(leaf_code::narrow_last_bit), -1, -1, -1, -1, -1, -1, -1};
+        for (const std::uint16_t* w = leaf + 1;; w += lane_count) {
+            const auto available =
+                static_cast<std::uint32_t>(std::min<std::ptrdiff_t>(end - w, lane_count));
+            const vint raw = load_words(w, available, end) & keep;
+            keep = splat(std::int32_t{-1});
+            const std::uint32_t last_bits =
+                lane_bits((raw & static_cast<std::int32_t>(leaf_code::narrow_last_bit)) != 0) &
+                ((1u << available) - 1u);
+            const vint id = base + (raw & static_cast<std::int32_t>(leaf_code::narrow_offset_mask));
+            if (test_leaf_batch<test>(ray, mesh, search, mailbox, id, last_bits, available)) {
+                kept = true;
+                if (search.done()) return true;
+            }
+            if (last_bits != 0 || available < lane_count) return kept;
+        }
+    }
+    // Wide: word pairs from the head on, the last bit the sign bit.
+    for (const std::uint16_t* w = leaf;; w += 2 * lane_count) {
+        const auto available =
+            static_cast<std::uint32_t>(std::min<std::ptrdiff_t>((end - w) / 2, lane_count));
+        const vint raw = load_pairs(w, available, end);
         const std::uint32_t last_bits = lane_bits(raw < 0) & ((1u << available) - 1u);
-        const std::uint32_t n = last_bits != 0 ? static_cast<std::uint32_t>(__builtin_ctz(last_bits)) + 1
-                                               : available;
-        vint id = raw & 0x7FFFFFFF;
-        id = (lane_index < static_cast<std::int32_t>(n)) ? id : splat(id[0]);
-        const std::uint32_t fresh = mailbox.filter(id, (1u << n) - 1u);
-        if (fresh != 0 && test_lanes<test>(ray, mesh, id, fresh, search)) {
+        const vint id = raw & static_cast<std::int32_t>(leaf_code::id_mask);
+        if (test_leaf_batch<test>(ray, mesh, search, mailbox, id, last_bits, available)) {
             kept = true;
             if (search.done()) return true;
         }
-        // (A leaf always ends at a marked reference, check_invariants makes sure; the array's
-        // end stops a damaged one.)
         if (last_bits != 0 || available < lane_count) return kept;
-        first += lane_count;
     }
 }
 

@@ -13,7 +13,7 @@ namespace sg {
 class OutputFile;
 
 /// Current .sg format version (docs/FORMAT.md). Readers refuse newer versions.
-inline constexpr std::uint32_t sg_format_version = 4;
+inline constexpr std::uint32_t sg_format_version = 5;
 
 /// Everything a .sg file holds: the mesh the grid was built for, the grid (with its
 /// BuildConfig) and the name of the source mesh file.
