@@ -593,6 +593,8 @@ private:
     CellRef emit_leaf(const Scratch& s, std::size_t begin, std::size_t n, double weight,
                       Fragment& out)
     {
+        // The ids are strictly ascending, as append_leaf needs: the root's list counts up and
+        // every hand-out to the cells keeps the order (see distribute).
         const std::uint32_t first =
             append_leaf(out.leaf_words, std::span(s.tris).subspan(begin, n));
         report(weight);
@@ -1102,6 +1104,7 @@ CellRef flatten(BuiltCell& cell, SplitGrid& grid)
         if (grid.leaf_words.size() + leaf_word_count(cell.triangles) >
             std::size_t{max_cell_index} + 1)
             throw InputError("Split Grid too large: more than 2^30 leaf words");
+        // Strictly ascending, as emit_leaf's (append_leaf needs it).
         const std::uint32_t first = append_leaf(grid.leaf_words, cell.triangles);
         cell.triangles = {};
         return CellRef::make_leaf(first);

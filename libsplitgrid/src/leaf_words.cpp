@@ -59,12 +59,9 @@ std::vector<std::uint32_t> leaf_ids(std::span<const std::uint16_t> words, std::s
 std::size_t count_references(std::span<const std::uint16_t> words)
 {
     std::size_t count = 0;
-    for (std::size_t w = 0; w < words.size();) {
-        std::size_t leaf = 0;
-        w = read_leaf(words, w, [&](std::uint32_t) { ++leaf; });
-        if (w == 0) break;
-        count += leaf;
-    }
+    (void)for_each_leaf(words, [&](std::size_t, std::size_t, std::span<const std::uint32_t> ids) {
+        count += ids.size();
+    });
     return count;
 }
 

@@ -48,15 +48,14 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
     }
     {
         std::vector<bool> seen(grid.triangle_count, false);
-        for (std::size_t w = 0; w < grid.leaf_words.size();) {
-            w = read_leaf(grid.leaf_words, w, [&](std::uint32_t id) {
+        (void)for_each_leaf(grid.leaf_words, [&](std::size_t, std::size_t,
+                                                 std::span<const std::uint32_t> ids) {
+            for (const std::uint32_t id : ids)
                 if (id < seen.size() && !seen[id]) {
                     seen[id] = true;
                     ++s.referenced_triangles;
                 }
-            });
-            if (w == 0) break;
-        }
+        });
     }
 
     const double root_area = grid.root_box.surface_area();

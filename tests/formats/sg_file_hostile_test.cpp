@@ -18,6 +18,7 @@
 #include "splitgrid/error.hpp"
 #include "splitgrid/formats/sg_file.hpp"
 #include "splitgrid/validate.hpp"
+#include "support/leaf_triangles.hpp"
 #include "support/random_scene.hpp"
 
 // ---------------------------------------------------------------------------------------
@@ -448,17 +449,13 @@ TEST_F(SgHostileIndex, NanVertexOfATriangle)
 
 TEST_F(SgHostileIndex, TriangleReferenceOutOfRange)
 {
-    (void)refusal_of([](SgContents& c) {
-        // The first leaf's head names the triangle one past the last (its flags kept).
-        for (const CellRef& cell : c.grid.cells)
-            if (cell.is_leaf()) {
-                std::uint16_t* head = c.grid.leaf_words.data() + cell.first_word();
-                head[0] = static_cast<std::uint16_t>(c.grid.triangle_count & 0xFFFFu);
-                head[1] = static_cast<std::uint16_t>((head[1] & 0xC000u) |
-                                                     (c.grid.triangle_count >> 16));
-                return;
-            }
+    // The first leaf's head names the triangle one past the last (its flags kept).
+    const std::string message = refusal_of([](SgContents& c) {
+        const CellRef* leaf = test::first_leaf_cell(c.grid);
+        ASSERT_NE(leaf, nullptr);
+        test::set_leaf_head(c.grid, leaf->first_word(), c.grid.triangle_count);
     });
+    EXPECT_NE(message.find("names triangle"), std::string::npos) << message;
 }
 
 TEST_F(SgHostileIndex, ChildNodeOutOfRange)
@@ -501,7 +498,7 @@ TEST_F(SgHostileIndex, CellPointingBackToTheRootMakesACycle)
     });
 }
 
-TEST_F(SgHostileIndex, LeafRangePastTheReferenceArray)
+TEST_F(SgHostileIndex, LeafPastTheEndOfTheWordArray)
 {
     (void)refusal_of([](SgContents& c) {
         for (CellRef& cell : c.grid.cells)

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <random>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "splitgrid/builder.hpp"
@@ -153,6 +154,43 @@ TEST(TraverseLeafWords, WideAndNarrowLeavesFindWhatBruteForceFinds)
     EXPECT_EQ(r.closest_disagreements, 0u) << r.first_failure;
     EXPECT_EQ(r.any_hit_disagreements, 0u) << r.first_failure;
     EXPECT_GT(r.hits, rays.size() / 4);
+}
+
+TEST(TraverseLeafWords, LeavesOfEveryLengthInBothFormsEndingTheArray)
+{
+    // A grid whose root is one leaf, the array's only and last one, of 1 to 24 references,
+    // narrow and wide: every way a batch of eight lanes can end against the array's end. The
+    // leaf's triangles are real ones in the unit box; every other triangle of the mesh is a
+    // point far outside it, which no ray hits.
+    const Aabb box{{0, 0, 0}, {1, 1, 1}};
+    constexpr std::uint32_t triangles = 33000;
+    for (const bool wide : {false, true}) {
+        for (const std::size_t n : {1, 2, 7, 8, 9, 15, 16, 17, 24}) {
+            if (wide && n == 1) continue;  // a one-reference leaf is always narrow
+            SCOPED_TRACE((wide ? "wide, " : "narrow, ") + std::to_string(n) + " references");
+            Ids ids;
+            for (std::uint32_t k = 0; k + 1 < n; ++k) ids.push_back(10 + k);
+            ids.push_back(wide ? 10 + static_cast<std::uint32_t>(n) + 32768 : 10 + static_cast<std::uint32_t>(n) - 1);
+            const Mesh real = test::random_triangles(static_cast<std::uint32_t>(n), n, box, 0.6f);
+            Mesh mesh;
+            mesh.vertices = real.vertices;
+            mesh.vertices.push_back({50, 50, 50});
+            const auto far = static_cast<std::uint32_t>(mesh.vertices.size() - 1);
+            mesh.triangles.assign(triangles, Triangle{{far, far, far}});
+            for (std::size_t k = 0; k < n; ++k) mesh.triangles[ids[k]] = real.triangles[k];
+            SplitGrid grid;
+            grid.root_box = box;
+            grid.triangle_count = triangles;
+            grid.root = CellRef::make_leaf(append_leaf(grid.leaf_words, ids));
+            ASSERT_EQ(grid.leaf_words.size(), wide ? 2 * n : n + 1);
+            check_invariants(grid);
+            const auto rays = test::rays_at_triangles(3, 300, box, real.view());
+            const auto r = test::compare_with_brute_force(grid, mesh.view(), rays);
+            EXPECT_EQ(r.closest_disagreements, 0u) << r.first_failure;
+            EXPECT_EQ(r.any_hit_disagreements, 0u) << r.first_failure;
+            EXPECT_GT(r.hits, rays.size() / 2);
+        }
+    }
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "splitgrid/builder.hpp"
 #include "splitgrid/error.hpp"
+#include "support/leaf_triangles.hpp"
 #include "support/random_scene.hpp"
 
 namespace sg {
@@ -65,11 +66,28 @@ TEST(Validate, RefusesEachKindOfCorruption)
 
     // The leaf's head names the triangle one past the mesh's last (its flags kept).
     g = f.grid;
-    const std::size_t head = g.cells[leaf].first_word();
-    g.leaf_words[head] = static_cast<std::uint16_t>(g.triangle_count & 0xFFFFu);
-    g.leaf_words[head + 1] = static_cast<std::uint16_t>((g.leaf_words[head + 1] & 0xC000u) |
-                                                        (g.triangle_count >> 16));
+    test::set_leaf_head(g, g.cells[leaf].first_word(), g.triangle_count);
     expect_refused(g, "names triangle " + std::to_string(g.triangle_count));
+
+    // A cell pointing inside another leaf: its second word read as a head.
+    g = f.grid;
+    g.cells[leaf] = CellRef::make_leaf(g.cells[leaf].first_word() + 1);
+    expect_refused(g, "leaf");
+
+    // Words that belong to no leaf.
+    g = f.grid;
+    g.leaf_words.insert(g.leaf_words.end(), {0x0000, 0x8000});
+    expect_refused(g, "leaves hold " + std::to_string(f.grid.leaf_words.size()) + " words");
+
+    // A leaf stored wide although its ids span less than 2^15: not the encoding of its ids.
+    g = f.grid;
+    g.root = CellRef::make_leaf(0);
+    g.nodes.clear();
+    g.cells.clear();
+    g.leaf_words = {0x0001, 0x4000, 0x0005, 0x8000};  // ids 1 and 5
+    expect_refused(g, "the leaf is wide but its ids span 4");
+    g.leaf_words = {0x0001, 0x0000, 0x8004};  // the same ids, narrow
+    EXPECT_NO_THROW(check_invariants(g));
 
     // Two leaves sharing one list of references.
     g = f.grid;
@@ -245,22 +263,21 @@ TEST(Validate, RefusesTreesDeeperThanTheTraversalStack)
 TEST(Validate, CoverageCatchesAMissingReference)
 {
     Fixture f;
-    // Remove one triangle from one leaf that holds several: coverage must notice.
-    // The leaf's first id is replaced by its second, as a narrow leaf of two or more references
-    // says it: the head names the second id, the first further word offset 0, the rest shifted.
+    // One triangle of a narrow leaf replaced by another: the head's id a becomes a - 1 (not in
+    // the leaf, whose ids ascend from a), the further words' offsets one more, so the leaf
+    // passes check_invariants but lacks triangle a, which coverage must notice.
     std::vector<std::uint16_t>& words = f.grid.leaf_words;
     for (CellRef& cell : f.grid.cells) {
         const std::size_t w = cell.first_word();
         if (!cell.is_leaf() || (words[w + 1] & 0xC000u) != 0) continue;  // wide, or one reference
         const std::uint32_t dropped = words[w] | (std::uint32_t{words[w + 1]} << 16);
-        const std::uint32_t shift = words[w + 2] & 0x7FFFu;
-        const std::uint32_t second = dropped + shift;
-        words[w] = static_cast<std::uint16_t>(second & 0xFFFFu);
-        words[w + 1] = static_cast<std::uint16_t>(second >> 16);
+        if (dropped == 0) continue;
+        test::set_leaf_head(f.grid, w, dropped - 1);
         for (std::size_t k = w + 2;; ++k) {
-            words[k] = static_cast<std::uint16_t>(words[k] - shift);
+            words[k] = static_cast<std::uint16_t>(words[k] + 1);
             if ((words[k] & 0x8000u) != 0) break;
         }
+        ASSERT_NO_THROW(check_invariants(f.grid));
         try {
             check_coverage(f.grid, f.mesh.view());
             FAIL() << "coverage accepted a leaf without triangle " << dropped;

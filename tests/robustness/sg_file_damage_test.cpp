@@ -356,14 +356,9 @@ TEST_F(SgDamage, ValidChecksumsWithBadIndicesCyclesAndNanPlanesStayWithinTheMemo
     // The forgeries of sg_file_hostile_test.cpp's SgHostileIndex, for the memory bound.
     std::vector<SgContents> forged(5, contents_);
     forged[0].mesh.triangles[3].v[1] = static_cast<std::uint32_t>(contents_.mesh.vertices.size());
-    for (const CellRef& cell : forged[1].grid.cells)
-        if (cell.is_leaf()) {  // its head names the triangle past the last, flags kept
-            std::uint16_t* head = forged[1].grid.leaf_words.data() + cell.first_word();
-            head[0] = static_cast<std::uint16_t>(contents_.grid.triangle_count & 0xFFFFu);
-            head[1] = static_cast<std::uint16_t>((head[1] & 0xC000u) |
-                                                 (contents_.grid.triangle_count >> 16));
-            break;
-        }
+    const CellRef* leaf = test::first_leaf_cell(forged[1].grid);
+    ASSERT_NE(leaf, nullptr);  // its head names the triangle past the last, flags kept
+    test::set_leaf_head(forged[1].grid, leaf->first_word(), contents_.grid.triangle_count);
     for (CellRef& cell : forged[2].grid.cells)
         if (cell.is_inner()) {
             cell = CellRef::make_inner(0, contents_.grid.nodes[0].resolution());  // a cycle

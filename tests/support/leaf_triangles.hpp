@@ -58,6 +58,23 @@ namespace sg::test {
     return leaves;
 }
 
+/// Makes the head of the leaf at word `first` name triangle `id` (its wide and last bits kept),
+/// as a forged file would; the leaf's other ids move with it if it is narrow.
+inline void set_leaf_head(SplitGrid& grid, std::size_t first, std::uint32_t id)
+{
+    std::vector<std::uint16_t>& w = grid.leaf_words;
+    w.at(first) = static_cast<std::uint16_t>(id % 65536u);
+    w.at(first + 1) = static_cast<std::uint16_t>(w.at(first + 1) / 16384u * 16384u + id / 65536u);
+}
+
+/// The first leaf among `grid.cells` (the cells of nodes of two or more cells), or nullptr.
+[[nodiscard]] inline const CellRef* first_leaf_cell(const SplitGrid& grid)
+{
+    for (const CellRef& cell : grid.cells)
+        if (cell.is_leaf()) return &cell;
+    return nullptr;
+}
+
 /// Number of triangle references in all leaves.
 [[nodiscard]] inline std::size_t counted_references(const SplitGrid& grid)
 {

@@ -232,13 +232,14 @@ vtkSmartPointer<vtkPolyData> make_mesh_block(const SplitGrid& grid, const MeshVi
 
     auto reference_count = named_array<vtkTypeInt64Array>("reference_count", triangles);
     reference_count->FillValue(0);
-    for (std::size_t w = 0; w < grid.leaf_words.size();) {
-        w = read_leaf(grid.leaf_words, w, [&](std::uint32_t id) {
-            const auto t = static_cast<vtkIdType>(id);
-            if (t < triangles) reference_count->SetValue(t, reference_count->GetValue(t) + 1);
-        });
-        if (w == 0) break;
-    }
+    (void)for_each_leaf(grid.leaf_words,
+                        [&](std::size_t, std::size_t, std::span<const std::uint32_t> ids) {
+                            for (const std::uint32_t id : ids) {
+                                const auto t = static_cast<vtkIdType>(id);
+                                if (t < triangles)
+                                    reference_count->SetValue(t, reference_count->GetValue(t) + 1);
+                            }
+                        });
 
     auto block = vtkSmartPointer<vtkPolyData>::New();
     block->SetPoints(points);

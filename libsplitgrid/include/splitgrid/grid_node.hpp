@@ -26,10 +26,10 @@ inline constexpr std::uint32_t max_cell_index = (1u << 30) - 1u;
 ///   bits 2-31  index: Leaf: its first word in SplitGrid::leaf_words (leaf_words.hpp);
 ///              Inner: the child node in SplitGrid::nodes; Empty: 0
 /// A leaf's words end at the reference marked last (leaf_words.hpp), so the cell needs no
-/// count. The poster does not give a cell layout;
-/// this one keeps a leaf's references contiguous, so a leaf costs one 4-byte read plus its
-/// references, and makes a node's cells half the size of an (index, count) pair: on the
-/// Stanford bunny the cells went from 13.0 to 6.5 bytes per triangle.
+/// count. The poster does not give a cell layout; this one keeps a leaf's references
+/// contiguous, so a leaf costs one 4-byte read plus its references, and makes a node's cells
+/// half the size of an (index, count) pair: on the Stanford bunny the cells went from 13.0 to
+/// 6.5 bytes per triangle.
 /// The two inner kinds tell the walk which way a child node is entered (docs/SPLIT_GRID.md,
 /// "Traversal") from the word it already holds, before the child's record arrives from memory
 /// (docs/BENCH.md).

@@ -29,7 +29,8 @@ inline constexpr std::uint32_t max_referenced_triangle = (1u << 30) - 1u;
 /// is unique (files are byte-identical for any thread count). A wide head never has the last bit:
 /// a one-reference leaf is narrow. On the builder's leaves of ten references on average, the
 /// words halve what the references cost: 99% of the dragon's leaves are narrow, 73% of the BMW
-/// M6's (docs/BENCH.md). The walk reads the head and its next seven words with one 16-byte load.
+/// M6's (docs/BENCH.md). The walk reads a narrow leaf's head pair, then the head's upper word and
+/// the next seven words with one 16-byte load.
 namespace leaf_code {
 inline constexpr std::uint32_t id_mask = max_referenced_triangle;
 inline constexpr std::uint32_t wide_bit = 1u << 30;
@@ -83,6 +84,25 @@ template <class Visit>
         if ((ref & leaf_code::last_bit) != 0) return w + 2;
     }
     return 0;
+}
+
+/// Reads the leaves that follow each other from word 0, calling `visit_leaf(first, end, ids)`
+/// for each (its first word, the word after it, its triangle ids), up to the end of `words` or
+/// the first leaf that is not well formed. Returns the index where it stopped: words.size()
+/// when every word belongs to a well-formed leaf.
+template <class VisitLeaf>
+std::size_t for_each_leaf(std::span<const std::uint16_t> words, VisitLeaf&& visit_leaf)
+{
+    std::vector<std::uint32_t> ids;
+    std::size_t w = 0;
+    while (w < words.size()) {
+        ids.clear();
+        const std::size_t end = read_leaf(words, w, [&](std::uint32_t id) { ids.push_back(id); });
+        if (end == 0) break;
+        visit_leaf(w, end, std::span<const std::uint32_t>(ids));
+        w = end;
+    }
+    return w;
 }
 
 /// The triangle ids of the leaf at `first`, in order; empty if it is not well formed.

@@ -67,8 +67,7 @@ struct SplitGrid {
 [[nodiscard]] inline std::size_t leaf_size(const SplitGrid& grid, CellRef leaf) noexcept
 {
     std::size_t n = 0;
-    (void)read_leaf(grid.leaf_words, leaf.first_word(), [&](std::uint32_t) { ++n; });
-    return n;
+    return read_leaf(grid.leaf_words, leaf.first_word(), [&](std::uint32_t) { ++n; }) == 0 ? 0 : n;
 }
 
 /// Number of triangle references of all leaves. Precondition: check_invariants(grid) passes

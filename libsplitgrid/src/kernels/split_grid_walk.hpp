@@ -132,9 +132,9 @@ private:
     {
         const std::uintptr_t node = reinterpret_cast<std::uintptr_t>(grid_.nodes.data()) +
                                     std::uintptr_t{next.child()} * sizeof(GridNode);
-        const std::uintptr_t refs = reinterpret_cast<std::uintptr_t>(grid_.leaf_words.data()) +
-                                    std::uintptr_t{next.first_word()} * sizeof(std::uint16_t);
-        __builtin_prefetch(reinterpret_cast<const void*>(next.is_inner() ? node : refs));
+        const std::uintptr_t words = reinterpret_cast<std::uintptr_t>(grid_.leaf_words.data()) +
+                                     std::uintptr_t{next.first_word()} * sizeof(std::uint16_t);
+        __builtin_prefetch(reinterpret_cast<const void*>(next.is_inner() ? node : words));
     }
 
     bool test_leaf_cell(CellRef cell) noexcept

@@ -232,8 +232,9 @@ inline bool test_packed_leaf(const KernelRay& ray, const MeshArrays& mesh, Searc
                              const std::uint16_t* end) noexcept
 {
     bool kept = false;
-    // (A leaf has its two head words and ends at a marked reference, check_invariants makes
-    // sure; the array's end stops a damaged one.)
+    // The leaf has its two head words and ends at a marked reference: the kernels run only
+    // on grids that passed check_invariants. Past the head, the loads stop at the array's end
+    // all the same.
     const std::uint32_t head = leaf_pair(leaf);
     if ((head & leaf_code::wide_bit) == 0) {
         // Lane 0 is the head: its upper word keeps only the head's last bit (bit 15 of that
