@@ -36,26 +36,27 @@ GridStats compute_stats(const SplitGrid& grid, const CostModel& model)
     s.cost_model = model;
     s.triangle_count = grid.triangle_count;
     s.node_count = grid.nodes.size();
-    s.reference_count = reference_count(grid);
     s.node_bytes = grid.nodes.size() * sizeof(GridNode);
     s.cell_bytes = grid.cells.size() * sizeof(CellRef);
     s.reference_bytes = grid.leaf_words.size() * sizeof(std::uint16_t);
     s.structure_bytes = grid.memory_bytes();
-    if (grid.triangle_count > 0) {
-        s.structure_bytes_per_triangle =
-            static_cast<double>(s.structure_bytes) / grid.triangle_count;
-        s.duplication_factor = static_cast<double>(s.reference_count) / grid.triangle_count;
-    }
     {
+        // One pass over the leaves for both counts.
         std::vector<bool> seen(grid.triangle_count, false);
         (void)for_each_leaf(grid.leaf_words, [&](std::size_t, std::size_t,
                                                  std::span<const std::uint32_t> ids) {
+            s.reference_count += ids.size();
             for (const std::uint32_t id : ids)
                 if (id < seen.size() && !seen[id]) {
                     seen[id] = true;
                     ++s.referenced_triangles;
                 }
         });
+    }
+    if (grid.triangle_count > 0) {
+        s.structure_bytes_per_triangle =
+            static_cast<double>(s.structure_bytes) / grid.triangle_count;
+        s.duplication_factor = static_cast<double>(s.reference_count) / grid.triangle_count;
     }
 
     const double root_area = grid.root_box.surface_area();

@@ -67,11 +67,12 @@ void check_cell(const SplitGrid& grid, const CellRef& cell, const Place& place,
     if (unordered) fail(where() + ": the leaf's triangle ids are not strictly ascending");
     // The encoding of a list of ids is unique (leaf_words.hpp), so files are comparable byte
     // for byte: wide exactly when the ids span 2^15 or more, and no id above the limit.
-    const bool wide = (leaf_pair(words.data() + first) & leaf_code::wide_bit) != 0;
-    const std::uint32_t head = leaf_pair(words.data() + first) & leaf_code::id_mask;
-    if (wide != (previous - head >= leaf_code::narrow_span))
+    const std::uint32_t head = leaf_pair(words.data() + first);
+    const bool wide = (head & leaf_code::wide_bit) != 0;
+    const std::uint32_t span = previous - (head & leaf_code::id_mask);
+    if (wide != (span >= leaf_code::narrow_span))
         fail(where() + ": the leaf is " + (wide ? "wide" : "narrow") + " but its ids span " +
-             std::to_string(previous - head) + " (wide exactly from 2^15 on)");
+             std::to_string(span) + " (wide exactly from 2^15 on)");
     if (previous > max_referenced_triangle)
         fail(where() + ": the leaf names triangle " + std::to_string(previous) +
              ", above the largest id a leaf can hold (2^30 - 1)");
