@@ -165,13 +165,15 @@ TEST(TraverseLeafWords, LeavesOfEveryLengthInBothFormsEndingTheArray)
     const Aabb box{{0, 0, 0}, {1, 1, 1}};
     constexpr std::uint32_t triangles = 33000;
     for (const bool wide : {false, true}) {
-        for (const std::size_t n : {1, 2, 7, 8, 9, 15, 16, 17, 24}) {
-            if (wide && n == 1) continue;  // a one-reference leaf is always narrow
-            SCOPED_TRACE((wide ? "wide, " : "narrow, ") + std::to_string(n) + " references");
+        for (const std::uint32_t count : {1u, 2u, 7u, 8u, 9u, 15u, 16u, 17u, 24u}) {
+            if (wide && count == 1) continue;  // a one-reference leaf is always narrow
+            SCOPED_TRACE((wide ? "wide, " : "narrow, ") + std::to_string(count) + " references");
+            const std::size_t n = count;
             Ids ids;
-            for (std::uint32_t k = 0; k + 1 < n; ++k) ids.push_back(10 + k);
-            ids.push_back(wide ? 10 + static_cast<std::uint32_t>(n) + 32768 : 10 + static_cast<std::uint32_t>(n) - 1);
-            const Mesh real = test::random_triangles(static_cast<std::uint32_t>(n), n, box, 0.6f);
+            for (std::uint32_t k = 0; k + 1 < count; ++k) ids.push_back(10 + k);
+            // The last id is the next one, or 2^15 or more past the first for a wide leaf.
+            ids.push_back(wide ? 10 + count + 32768 : 10 + count - 1);
+            const Mesh real = test::random_triangles(count, n, box, 0.6f);
             Mesh mesh;
             mesh.vertices = real.vertices;
             mesh.vertices.push_back({50, 50, 50});
