@@ -1133,7 +1133,7 @@ float boundary_pad(const Aabb& scene) noexcept
     for (int k = 0; k < 3; ++k)
         magnitude = std::max({magnitude, std::abs(scene.lower[k]), std::abs(scene.upper[k])});
     // Never below a normal float, so the pad survives being added to coordinates near zero.
-    return std::max(magnitude * 0x1p-17f, std::numeric_limits<float>::min() * 64.0f);
+    return std::max(magnitude * 0x1p-20f, std::numeric_limits<float>::min() * 64.0f);
 }
 
 Aabb padded_root_box(const Aabb& scene, float pad) noexcept

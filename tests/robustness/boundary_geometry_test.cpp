@@ -1,6 +1,6 @@
 // Row 4 of docs/ROBUSTNESS.md: geometry on cell boundaries. A 3D checkerboard of unit cubes
 // (shared lattice vertices), placed so that cell boundaries coincide exactly with the cubes'
-// faces: with the lattice in [2^13 - n, 2^13] the boundary pad (2^-17 of the largest
+// faces: with the lattice in [2^16 - n, 2^16] the boundary pad (2^-20 of the largest
 // coordinate) is exactly 1/16, the root box is the lattice widened by 1/16, and a forced
 // resolution of 16 n + 2 makes every cell exactly 1/16 wide, so every 16th cell boundary is
 // a lattice plane. The top three levels split x, y and z that way (max_depth 2; a floor and a
@@ -23,8 +23,8 @@ namespace sg::test {
 namespace {
 
 constexpr int lattice = 4;             // cubes per axis
-constexpr float top = 8192.0f;         // 2^13
-constexpr float pad = 1.0f / 16.0f;    // top * 2^-17, builder.hpp's boundary_pad
+constexpr float top = 65536.0f;        // 2^16
+constexpr float pad = 1.0f / 16.0f;    // top * 2^-20, builder.hpp's boundary_pad
 constexpr int cells_per_unit = 16;     // cells of width `pad` per cube
 constexpr float bottom = top - lattice;
 

@@ -40,10 +40,14 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
                         const BuildProgress& progress = {});
 
 /// Absolute padding (scene units) added around every cell box when the builder decides which
-/// triangles a cell references: 2^-17 times the largest coordinate magnitude of `scene` (64
-/// float ulps), the scene's bounding box before padding, which every builder passes. It
-/// absorbs the rounding of the watertight test, which may report a hit a few ulps outside a
-/// triangle's true extent.
+/// triangles a cell references: 2^-20 times the largest coordinate magnitude M of `scene`
+/// (8 to 16 float ulps of M), the scene's bounding box before padding, which every builder
+/// passes. It absorbs the rounding of the watertight test, which may report a hit a little
+/// outside a triangle's true extent: on an axis the ray runs parallel to, up to 4 * 2^-24 M
+/// off, where the walks take the cell of the origin's coordinate and widen nothing; on the
+/// other axes the walks' own allowance covers it (docs/SPLIT_GRID.md, "Why no ray slips
+/// through"). The pad grows with M, not with the triangles: where they are small against the
+/// scene's extent, every extra ulp of it costs references.
 [[nodiscard]] float boundary_pad(const Aabb& scene) noexcept;
 
 /// The box a structure is built in (SplitGrid::root_box, and the kd-tree's and the uniform
