@@ -44,10 +44,11 @@ void rebuild_split_grid(SplitGrid& grid, const MeshView& mesh, const BuildConfig
 /// (8 to 16 float ulps of M), the scene's bounding box before padding, which every builder
 /// passes. It absorbs the rounding of the watertight test, which may report a hit a little
 /// outside a triangle's true extent: on an axis the ray runs parallel to, up to 4 * 2^-24 M
-/// off, where the walks take the cell of the origin's coordinate and widen nothing; on the
-/// other axes the walks' own allowance covers it (docs/SPLIT_GRID.md, "Why no ray slips
-/// through"). The pad grows with M, not with the triangles: where they are small against the
-/// scene's extent, every extra ulp of it costs references.
+/// off, where the Split Grid, kd-tree and uniform grid take the cell of the origin's
+/// coordinate and widen nothing; on the other axes the walks' own allowance covers it
+/// (Padding::conservative; docs/SPLIT_GRID.md, "Why no ray slips through"). The pad grows
+/// with M, not with the triangles: where they are small against the scene's extent, every
+/// extra ulp of it costs references.
 [[nodiscard]] float boundary_pad(const Aabb& scene) noexcept;
 
 /// The box a structure is built in (SplitGrid::root_box, and the kd-tree's and the uniform
