@@ -312,35 +312,6 @@ TEST(Clip, ClippedBoundsAreTightForAKnownCase)
     EXPECT_FALSE(clip_triangle_bounds({0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {{2.1, 2.1, -1}, {3, 3, 1}}, out));
 }
 
-TEST(Watertight, SharedEdgesAndVerticesNeverLeak)
-{
-    // A fan of triangles around a vertex; rays straight at the shared vertex and the shared
-    // edges must hit at least one of them.
-    const Vec3f c{0.3f, 0.7f, 0.0f};
-    std::vector<Vec3f> ring;
-    for (int k = 0; k < 7; ++k) {
-        const double phi = 2.0 * 3.14159265358979 * k / 7.0;
-        ring.push_back({float(0.3 + std::cos(phi)), float(0.7 + std::sin(phi)), 0.0f});
-    }
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<float> u(-3.0f, 3.0f);
-    for (int trial = 0; trial < 5000; ++trial) {
-        const Vec3f origin{u(rng), u(rng), 1.0f + std::abs(u(rng))};
-        const int k = trial % 7;
-        const Vec3f target = trial % 2 ? c : ring[static_cast<std::size_t>(k)] * 0.5f + c * 0.5f;
-        const Ray ray{origin, target - origin};
-        const WatertightRay wr(ray);
-        int hits = 0;
-        for (int j = 0; j < 7; ++j) {
-            float t, uu, vv;
-            hits += intersect_triangle(wr, c, ring[static_cast<std::size_t>(j)],
-                                       ring[static_cast<std::size_t>((j + 1) % 7)], 0.0f,
-                                       1e30f, t, uu, vv);
-        }
-        EXPECT_GE(hits, 1) << "trial " << trial;
-    }
-}
-
 TEST(MollerTrumbore, HitsLieOnTheTriangleAndAgreeWithTheWatertightTestAwayFromEdges)
 {
     // Rays from random points towards random interior points of random triangles: both tests

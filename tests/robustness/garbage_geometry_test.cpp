@@ -15,8 +15,7 @@
 #include <cstdio>
 #include <random>
 
-#include <boost/multiprecision/cpp_int.hpp>
-
+#include "exact_float.hpp"
 #include "robustness_support.hpp"
 #include "support/random_scene.hpp"
 
@@ -24,20 +23,6 @@ namespace sg::test {
 namespace {
 
 using boost::multiprecision::cpp_int;
-
-// A finite float as an exact integer: its value times 2^149 (the smallest denormal is 2^-149).
-cpp_int scaled(float f)
-{
-    int exponent = 0;
-    const float mantissa = std::frexp(f, &exponent);
-    cpp_int v = static_cast<long long>(std::ldexp(mantissa, 24));
-    const int shift = exponent - 24 + 149;
-    if (shift >= 0)
-        v <<= shift;
-    else
-        v >>= -shift;  // only zero bits go: a denormal's mantissa ends in zeros
-    return v;
-}
 
 // Zero area in exact arithmetic: the cross product of two edges is the zero vector.
 bool has_zero_area(Vec3f a, Vec3f b, Vec3f c)

@@ -23,6 +23,12 @@ enum class TriangleTest : std::uint8_t {
     /// in single precision without an epsilon: not watertight (a ray through a shared edge can
     /// fail both triangles). For sg-bench's speed-against-accuracy chart only.
     moller_trumbore,
+    /// The watertight test as it was before its zero edge functions were decided by symbolic
+    /// perturbation: a zero counts on either side, so a ray through an edge hits both of its
+    /// triangles and a ray through a vertex every triangle of its fan. Watertight (no ray
+    /// slips through), but a count of crossings along a ray can be wrong by one or more. For sg-bench's comparison of inside tests only (count and occupancy);
+    /// closest-hit and any-hit queries given it run the watertight test.
+    watertight_no_tie_break,
 };
 
 /// Whether a traversal widens its ray intervals to absorb the rounding of plane crossings

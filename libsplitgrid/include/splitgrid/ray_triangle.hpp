@@ -34,33 +34,61 @@ struct WatertightRay {
     }
 };
 
-/// Tests one triangle (corners a, b, c). On a hit with t in [t_min, t_max] it writes t and the
-/// barycentrics u (weight of b) and v (weight of c) and returns true. No back-face culling.
-/// Cost: about 30 flops; a double-precision fallback runs only when an edge function is
-/// exactly zero (the ray passes through an edge or vertex).
-[[nodiscard]] inline bool intersect_triangle(const WatertightRay& r, Vec3f a, Vec3f b, Vec3f c,
-                                             float t_min, float t_max, float& t_out, float& u_out,
-                                             float& v_out) noexcept
-{
-    const Vec3f A = a - r.origin;
-    const Vec3f B = b - r.origin;
-    const Vec3f C = c - r.origin;
-    const float Ax = A[r.kx] - r.sx * A[r.kz];
-    const float Ay = A[r.ky] - r.sy * A[r.kz];
-    const float Bx = B[r.kx] - r.sx * B[r.kz];
-    const float By = B[r.ky] - r.sy * B[r.kz];
-    const float Cx = C[r.kx] - r.sx * C[r.kz];
-    const float Cy = C[r.ky] - r.sy * C[r.kz];
-    float U = Cx * By - Cy * Bx;
-    float V = Ax * Cy - Ay * Cx;
-    float W = Bx * Ay - By * Ax;
-    if (U == 0.0f || V == 0.0f || W == 0.0f) {
-        // An edge passes (in float) exactly through the ray: decide with exact-enough products.
-        U = static_cast<float>(static_cast<double>(Cx) * By - static_cast<double>(Cy) * Bx);
-        V = static_cast<float>(static_cast<double>(Ax) * Cy - static_cast<double>(Ay) * Cx);
-        W = static_cast<float>(static_cast<double>(Bx) * Ay - static_cast<double>(By) * Ax);
+namespace detail {
+
+/// A triangle's corners moved to the ray's origin (A, B, C) and sheared along the ray (X and Y
+/// of each corner in the frame where the ray runs along +z), and the float edge functions U, V
+/// and W of the edges b -> c, c -> a and a -> b (qx * py - qy * px for an edge from P to Q).
+/// Each corner's values come from that corner alone, so every triangle holding it computes
+/// the same ones, and the two triangles of an edge the same edge function up to its sign.
+struct ShearedTriangle {
+    Vec3f A, B, C;
+    float Ax, Ay, Bx, By, Cx, Cy;
+    float U, V, W;
+    ShearedTriangle(const WatertightRay& r, Vec3f a, Vec3f b, Vec3f c) noexcept
+        : A(a - r.origin), B(b - r.origin), C(c - r.origin),
+          Ax(A[r.kx] - r.sx * A[r.kz]), Ay(A[r.ky] - r.sy * A[r.kz]),
+          Bx(B[r.kx] - r.sx * B[r.kz]), By(B[r.ky] - r.sy * B[r.kz]),
+          Cx(C[r.kx] - r.sx * C[r.kz]), Cy(C[r.ky] - r.sy * C[r.kz]), U(Cx * By - Cy * Bx),
+          V(Ax * Cy - Ay * Cx), W(Bx * Ay - By * Ax)
+    {
     }
-    if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
+};
+
+/// True when the float edge function `e` may not have the sign of the exact one: it is zero
+/// (the two rounded products came out equal; the exact difference may be zero or of either
+/// sign) or NaN (the products overflowed). A non-zero float edge function has the exact sign:
+/// rounding is monotone, so qx * py > qy * px gives fl(qx * py) >= fl(qy * px), whose
+/// difference rounds to a value >= 0 (docs/SPLIT_GRID.md, "Exact edge functions").
+[[nodiscard]] inline bool edge_sign_is_uncertain(float e) noexcept
+{
+    return !(e < 0.0f || e > 0.0f);
+}
+
+/// The sign of the edge function qx * py - qy * px of the 2D edge from (px, py) to (qx, qy),
+/// evaluated exactly (products of floats are exact in double, and the one rounding of their
+/// difference keeps its sign), with a zero decided by symbolic perturbation: the sign it takes
+/// when the ray moves by (e, e^2) for an infinitesimal e > 0, which is that of
+/// e (qy - py) + e^2 (px - qx). It depends on the edge alone and flips with its direction, so
+/// two triangles sharing an edge decide it alike whatever their winding. 0 only for an edge
+/// whose ends coincide in the ray's frame (an edge along the ray), which bounds no area.
+[[nodiscard]] inline int perturbed_edge_sign(float px, float py, float qx, float qy,
+                                             double& exact) noexcept
+{
+    exact = static_cast<double>(qx) * py - static_cast<double>(qy) * px;
+    if (exact != 0.0) return exact > 0.0 ? 1 : -1;
+    if (qy != py) return qy > py ? 1 : -1;
+    if (px != qx) return px > qx ? 1 : -1;
+    return 0;
+}
+
+/// The part of the watertight test after the edge functions U, V and W (all of one sign, or
+/// zero): the determinant, the distance in [t_min, t_max] and the barycentrics. `A`, `B` and
+/// `C` are the corners moved to the ray's origin.
+[[nodiscard]] inline bool hit_distance(const WatertightRay& r, Vec3f A, Vec3f B, Vec3f C,
+                                       float U, float V, float W, float t_min, float t_max,
+                                       float& t_out, float& u_out, float& v_out) noexcept
+{
     const float det = U + V + W;
     if (det == 0.0f) return false;
     const float Az = r.sz * A[r.kz];
@@ -87,6 +115,68 @@ struct WatertightRay {
     u_out = V * inv_det;
     v_out = W * inv_det;
     return true;
+}
+
+}  // namespace detail
+
+/// Tests one triangle (corners a, b, c). On a hit with t in [t_min, t_max] it writes t and the
+/// barycentrics u (weight of b) and v (weight of c) and returns true. No back-face culling.
+///
+/// The signs of the three edge functions are exact, and a zero one (the ray through an edge
+/// or a vertex) is decided by symbolic perturbation (detail::perturbed_edge_sign): the test
+/// answers what it would for the ray moved by an infinitesimal amount, the same amount for
+/// every triangle. So a ray through an edge shared by two triangles hits exactly one of them
+/// where it crosses the surface (none or both where it grazes it, as the moved ray misses or
+/// pierces the fold), a ray through a vertex hits one triangle of the fan around it, and a
+/// triangle seen edge-on is never hit: the hits along a ray are those of a slightly moved ray
+/// (docs/SPLIT_GRID.md, "Exact edge functions").
+/// Cost: about 30 flops; a double-precision path runs only where an edge function is zero in
+/// float (the ray passes through an edge or a vertex, or within rounding of one).
+[[nodiscard]] inline bool intersect_triangle(const WatertightRay& r, Vec3f a, Vec3f b, Vec3f c,
+                                             float t_min, float t_max, float& t_out, float& u_out,
+                                             float& v_out) noexcept
+{
+    const detail::ShearedTriangle s(r, a, b, c);
+    float U = s.U, V = s.V, W = s.W;
+    if (!detail::edge_sign_is_uncertain(U) && !detail::edge_sign_is_uncertain(V) &&
+        !detail::edge_sign_is_uncertain(W)) {
+        if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f))
+            return false;
+    } else {
+        double Ud, Vd, Wd;
+        const int su = detail::perturbed_edge_sign(s.Bx, s.By, s.Cx, s.Cy, Ud);
+        const int sv = detail::perturbed_edge_sign(s.Cx, s.Cy, s.Ax, s.Ay, Vd);
+        const int sw = detail::perturbed_edge_sign(s.Ax, s.Ay, s.Bx, s.By, Wd);
+        if (su == 0 || su != sv || su != sw) return false;
+        U = static_cast<float>(Ud);
+        V = static_cast<float>(Vd);
+        W = static_cast<float>(Wd);
+    }
+    return detail::hit_distance(r, s.A, s.B, s.C, U, V, W, t_min, t_max, t_out, u_out, v_out);
+}
+
+/// intersect_triangle before symbolic perturbation (TriangleTest::watertight_no_tie_break):
+/// the float edge functions, recomputed in double only where one is exactly zero in float, and
+/// a zero accepted on either side. For sg-bench's comparison of inside tests only. Same
+/// contract as intersect_triangle.
+[[nodiscard]] inline bool intersect_triangle_no_tie_break(const WatertightRay& r, Vec3f a,
+                                                          Vec3f b, Vec3f c, float t_min,
+                                                          float t_max, float& t_out,
+                                                          float& u_out, float& v_out) noexcept
+{
+    const detail::ShearedTriangle s(r, a, b, c);
+    float U = s.U, V = s.V, W = s.W;
+    if (U == 0.0f || V == 0.0f || W == 0.0f) {
+        double exact;
+        (void)detail::perturbed_edge_sign(s.Bx, s.By, s.Cx, s.Cy, exact);
+        U = static_cast<float>(exact);
+        (void)detail::perturbed_edge_sign(s.Cx, s.Cy, s.Ax, s.Ay, exact);
+        V = static_cast<float>(exact);
+        (void)detail::perturbed_edge_sign(s.Ax, s.Ay, s.Bx, s.By, exact);
+        W = static_cast<float>(exact);
+    }
+    if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
+    return detail::hit_distance(r, s.A, s.B, s.C, U, V, W, t_min, t_max, t_out, u_out, v_out);
 }
 
 /// The test of Moeller and Trumbore, "Fast, Minimum Storage Ray/Triangle Intersection"

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <span>
 
+#include "splitgrid/intersections.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/query.hpp"
 #include "splitgrid/ray.hpp"
@@ -22,14 +23,20 @@ void closest_hits(const Structure& structure, const MeshView& mesh, std::span<co
 template <class Structure>
 void any_hits(const Structure& structure, const MeshView& mesh, std::span<const Ray> rays,
               std::span<std::uint8_t> occluded, TraversalCounters* total) noexcept;
+template <class Structure>
+void count_hits(const Structure& structure, const MeshView& mesh, std::span<const Ray> rays,
+                std::span<std::int32_t> counts, TriangleTest test) noexcept;
+template <class Structure>
+void all_hits(const Structure& structure, const MeshView& mesh, std::span<const Ray> rays,
+              IntersectionList& out);
 
 }  // namespace detail
 
 /// The queries every comparison structure offers (inherited by UniformGrid, KdTree and Bvh),
 /// with the semantics of the Split Grid's (traverse.hpp): the smallest t in the closed window
-/// [t_min, t_max] found by the query's triangle test, the first found on equal t; invalid
-/// rays (is_valid) miss without touching the structure; a miss has t = t_max. `mesh` must be
-/// the mesh the structure was built on. Each structure's header says what its counters count.
+/// [t_min, t_max] found by the query's triangle test, the smallest triangle id on equal t;
+/// invalid rays (is_valid) miss without touching the structure; a miss has t = t_max. `mesh`
+/// must be the mesh the structure was built on. Each structure's header says what its counters count.
 template <class Structure>
 class StructureQueries {
 public:
@@ -62,6 +69,22 @@ public:
                   TraversalCounters* total = nullptr) const noexcept
     {
         detail::any_hits(self(), mesh, rays, occluded, total);
+    }
+
+    /// The number of distinct triangles each ray hits in [t_min, t_max] (`counts` has
+    /// rays.size() entries; 0 for an invalid ray), serially in the calling thread; see
+    /// sg::count_intersections (traverse.hpp).
+    void count_intersections(const MeshView& mesh, std::span<const Ray> rays,
+                             std::span<std::int32_t> counts,
+                             TriangleTest test = TriangleTest::watertight) const noexcept
+    {
+        detail::count_hits(self(), mesh, rays, counts, test);
+    }
+    /// Every hit of each ray, appended to `out`; see sg::list_intersections (traverse.hpp).
+    void list_intersections(const MeshView& mesh, std::span<const Ray> rays,
+                            IntersectionList& out) const
+    {
+        detail::all_hits(self(), mesh, rays, out);
     }
 
     friend bool operator==(const StructureQueries&, const StructureQueries&) = default;

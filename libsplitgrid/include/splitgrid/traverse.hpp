@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <span>
 
+#include "splitgrid/intersections.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/query.hpp"
 #include "splitgrid/ray.hpp"
@@ -14,7 +15,7 @@ namespace sg {
 
 /// Closest hit along `ray` within [t_min, t_max] among the triangles of `mesh` (the mesh the
 /// grid was built for). Returns the smallest t found by the watertight test; on equal t the
-/// triangle found first wins. Invalid rays (see is_valid) return no hit.
+/// smallest triangle id wins, so the answer does not depend on the order of the walk. Invalid rays (see is_valid) return no hit.
 /// Cost: the cells the ray crosses up to the hit, front to back; no recursion, a fixed
 /// stack of max_supported_depth + 1 entries; a mailbox skips a triangle met again in a
 /// neighbouring cell (its answer cannot change); the triangles of a leaf are tested up to
@@ -53,6 +54,32 @@ inline void occluded(const SplitGrid& grid, const MeshView& mesh, std::span<cons
                      std::span<std::uint8_t> occluded, TraversalCounters* total = nullptr) noexcept
 {
     detail::any_hits(grid, mesh, rays, occluded, total);
+}
+
+/// The number of distinct triangles each ray hits with t in [t_min, t_max], into `counts`
+/// (rays.size() entries; 0 for an invalid ray), serially in the calling thread. Every triangle
+/// is counted once however many cells reference it. With the watertight test (the default) a
+/// ray counts what a slightly moved ray counts (ray_triangle.hpp): through an edge or vertex
+/// where it crosses the surface, once; so the parity of the count along a ray from a point
+/// tells inside from outside of a closed mesh (docs/SPLIT_GRID.md, "Exact edge functions").
+/// `test` = TriangleTest::watertight_no_tie_break or moller_trumbore count as those tests do,
+/// for comparisons. Cost: the ray's whole walk through [t_min, t_max] (no early end), plus a
+/// sort of its hits.
+inline void count_intersections(const SplitGrid& grid, const MeshView& mesh,
+                                std::span<const Ray> rays, std::span<std::int32_t> counts,
+                                TriangleTest test = TriangleTest::watertight) noexcept
+{
+    detail::count_hits(grid, mesh, rays, counts, test);
+}
+
+/// Every hit of each ray with t in [t_min, t_max], each triangle once, sorted by t then
+/// triangle id, appended to `out` (IntersectionList: Open3D's layout; the rays are numbered on
+/// from out.ray_count()), serially in the calling thread. Throws std::bad_alloc if the lists
+/// do not fit in memory.
+inline void list_intersections(const SplitGrid& grid, const MeshView& mesh,
+                               std::span<const Ray> rays, IntersectionList& out)
+{
+    detail::all_hits(grid, mesh, rays, out);
 }
 
 /// Reference answer: tests every triangle of the mesh in id order with the same watertight

@@ -130,7 +130,9 @@ void closest_hits(const Structure& structure, const MeshView& mesh, std::span<co
                   std::span<Hit> hits, TraversalCounters* total, const QueryOptions& options) noexcept
 {
     const auto& k = active_table().load(std::memory_order_relaxed)->template of<Structure>();
-    k.closest[static_cast<int>(options.test)][static_cast<int>(options.padding)][total != nullptr](
+    // The test without the tie-break is offered for counts only (query.hpp).
+    const int test = options.test == TriangleTest::moller_trumbore ? 1 : 0;
+    k.closest[test][static_cast<int>(options.padding)][total != nullptr](
         structure, mesh, rays, hits, total);
 }
 
@@ -140,6 +142,22 @@ void any_hits(const Structure& structure, const MeshView& mesh, std::span<const 
 {
     const auto& k = active_table().load(std::memory_order_relaxed)->template of<Structure>();
     k.any[total != nullptr](structure, mesh, rays, occluded, total);
+}
+
+template <class Structure>
+void count_hits(const Structure& structure, const MeshView& mesh, std::span<const Ray> rays,
+                std::span<std::int32_t> counts, TriangleTest test) noexcept
+{
+    const auto& k = active_table().load(std::memory_order_relaxed)->template of<Structure>();
+    k.count[static_cast<int>(test)](structure, mesh, rays, counts);
+}
+
+template <class Structure>
+void all_hits(const Structure& structure, const MeshView& mesh, std::span<const Ray> rays,
+              IntersectionList& out)
+{
+    const auto& k = active_table().load(std::memory_order_relaxed)->template of<Structure>();
+    k.all(structure, mesh, rays, out);
 }
 
 template void closest_hits(const SplitGrid&, const MeshView&, std::span<const Ray>, std::span<Hit>,
@@ -158,6 +176,17 @@ template void any_hits(const KdTree&, const MeshView&, std::span<const Ray>,
                        std::span<std::uint8_t>, TraversalCounters*) noexcept;
 template void any_hits(const UniformGrid&, const MeshView&, std::span<const Ray>,
                        std::span<std::uint8_t>, TraversalCounters*) noexcept;
+
+#define SG_INSTANTIATE_MULTI_HIT(Structure)                                                   \
+    template void count_hits(const Structure&, const MeshView&, std::span<const Ray>,          \
+                             std::span<std::int32_t>, TriangleTest) noexcept;                  \
+    template void all_hits(const Structure&, const MeshView&, std::span<const Ray>,            \
+                           IntersectionList&);
+SG_INSTANTIATE_MULTI_HIT(SplitGrid)
+SG_INSTANTIATE_MULTI_HIT(Bvh)
+SG_INSTANTIATE_MULTI_HIT(KdTree)
+SG_INSTANTIATE_MULTI_HIT(UniformGrid)
+#undef SG_INSTANTIATE_MULTI_HIT
 
 }  // namespace detail
 }  // namespace sg

@@ -29,11 +29,12 @@ public:
     [[nodiscard]] const Hit& hit() const noexcept { return hit_; }
 
     /// Offers a hit of triangle `tri` at t (already known to lie in [t_min, best_t()]): kept
-    /// unless an equally close one was found first, as intersect_brute_force keeps the first
-    /// of equal hits in its order. True if kept.
+    /// if it is closer than the hit so far, or as close with a smaller triangle id, so that
+    /// the answer does not depend on the order the walk meets triangles in (it is the one
+    /// intersect_brute_force finds in id order). True if kept.
     bool offer(float t, std::uint32_t tri, float u, float v) noexcept
     {
-        if (found_ && !(t < best_t_)) return false;
+        if (found_ && !(t < best_t_ || (t == best_t_ && tri < hit_.triangle))) return false;
         found_ = true;
         best_t_ = t;
         hit_ = Hit{t, tri, u, v};
@@ -59,6 +60,39 @@ private:
     bool found_ = false;
     Hit hit_;
     TraversalCounters* counters_;
+};
+
+/// The state of a multi-hit query (count_intersections, list_intersections): every hit in
+/// [t_min, t_max], appended to `hits` in the order the walk finds them. The window never
+/// shrinks, so the walk visits every cell and node the ray crosses in it. A triangle that
+/// several cells reference can be offered more than once (the mailbox forgets on a
+/// collision); sort_distinct_hits removes the copies afterwards, so no copy can slip through.
+class HitCollector {
+public:
+    HitCollector(float t_min, float t_max, std::vector<Hit>& hits) noexcept
+        : t_min_(t_min), t_max_(t_max), hits_(hits)
+    {
+    }
+
+    [[nodiscard]] float t_min() const noexcept { return t_min_; }
+    [[nodiscard]] float best_t() const noexcept { return t_max_; }
+    [[nodiscard]] static constexpr bool done() noexcept { return false; }
+
+    /// Records the hit; never "kept" in HitSearch's sense (nothing ends the walk).
+    bool offer(float t, std::uint32_t tri, float u, float v) noexcept
+    {
+        hits_.push_back(Hit{t, tri, u, v});
+        return false;
+    }
+
+    static constexpr void count_node() noexcept {}
+    static constexpr void count_cell() noexcept {}
+    static constexpr void count_triangles(std::uint32_t) noexcept {}
+
+private:
+    float t_min_;
+    float t_max_;
+    std::vector<Hit>& hits_;
 };
 
 /// The triangles one query has tested, for structures that reference a triangle from several

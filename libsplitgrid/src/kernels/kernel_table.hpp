@@ -10,6 +10,7 @@
 #include "splitgrid/baselines/bvh.hpp"
 #include "splitgrid/baselines/kd_tree.hpp"
 #include "splitgrid/baselines/uniform_grid.hpp"
+#include "splitgrid/intersections.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/query.hpp"
 #include "splitgrid/ray.hpp"
@@ -28,13 +29,35 @@ template <class Structure>
 using AnyKernel = void (*)(const Structure&, const MeshView&, std::span<const Ray>,
                            std::span<std::uint8_t>, TraversalCounters* total);
 
+/// The number of distinct triangles each ray hits, into `counts` (same size).
+template <class Structure>
+using CountKernel = void (*)(const Structure&, const MeshView&, std::span<const Ray>,
+                             std::span<std::int32_t> counts);
+/// Every hit of each ray, appended to `out` (its rays numbered on from out.ray_count()).
+template <class Structure>
+using AllKernel = void (*)(const Structure&, const MeshView&, std::span<const Ray>,
+                           IntersectionList& out);
+
 template <class Structure>
 struct StructureKernels {
-    /// [TriangleTest][Padding][counting]
+    /// [TriangleTest][Padding][counting]; TriangleTest::watertight_no_tie_break is not offered
+    /// for closest hits (it changes nothing but which of two equal hits is kept)
     ClosestKernel<Structure> closest[2][2][2];
     /// [counting]; watertight test, conservative padding
     AnyKernel<Structure> any[2];
+    /// [TriangleTest]; conservative padding
+    CountKernel<Structure> count[3];
+    /// watertight test, conservative padding
+    AllKernel<Structure> all;
 };
+
+// The tables are indexed by these enums' values.
+static_assert(static_cast<int>(TriangleTest::watertight) == 0 &&
+                  static_cast<int>(TriangleTest::moller_trumbore) == 1 &&
+                  static_cast<int>(TriangleTest::watertight_no_tie_break) == 2,
+              "StructureKernels::closest and ::count are indexed by TriangleTest");
+static_assert(static_cast<int>(Padding::conservative) == 0 && static_cast<int>(Padding::none) == 1,
+              "StructureKernels::closest is indexed by Padding");
 
 struct KernelTable {
     StructureKernels<SplitGrid> split_grid;

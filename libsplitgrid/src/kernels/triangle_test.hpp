@@ -84,14 +84,16 @@ template <TriangleTest test>
     const Vec3f a = mesh.vertex(tri, 0), b = mesh.vertex(tri, 1), c = mesh.vertex(tri, 2);
     if constexpr (test == TriangleTest::watertight)
         return intersect_triangle(ray.shear, a, b, c, t_min, t_max, t, u, v);
+    else if constexpr (test == TriangleTest::watertight_no_tie_break)
+        return intersect_triangle_no_tie_break(ray.shear, a, b, c, t_min, t_max, t, u, v);
     else
         return intersect_triangle_moller_trumbore(ray.origin_vec, ray.direction_vec, a, b, c,
                                                   t_min, t_max, t, u, v);
 }
 
 /// Tests the triangles id[l] of the lanes l set in `lanes` (at least one) over
-/// [search.t_min(), search.best_t()] and offers each hit to `search` in lane order, so ties go
-/// to the earlier lane as in a one-by-one loop. Lanes not set must still hold a valid id.
+/// [search.t_min(), search.best_t()] and offers each hit to `search` in lane order (which
+/// breaks ties on t by triangle id). Lanes not set must still hold a valid id.
 /// True if a hit was kept.
 template <TriangleTest test, class Search>
 inline bool test_lanes(const KernelRay& ray, const MeshArrays& mesh, vint id, std::uint32_t lanes,
@@ -99,7 +101,9 @@ inline bool test_lanes(const KernelRay& ray, const MeshArrays& mesh, vint id, st
 {
     search.count_triangles(static_cast<std::uint32_t>(__builtin_popcount(lanes)));
     bool kept = false;
-    if (test != TriangleTest::watertight || !mesh.batchable) {
+    // The test without the tie-break differs from the watertight one only where an edge
+    // function is within rounding of zero, the lanes the batched test hands to test_one.
+    if (test == TriangleTest::moller_trumbore || !mesh.batchable) {
         for (std::uint32_t todo = lanes; todo != 0; todo &= todo - 1) {
             const auto tri = static_cast<std::uint32_t>(id[__builtin_ctz(todo)]);
             float t, u, v;
@@ -142,7 +146,9 @@ inline bool test_lanes(const KernelRay& ray, const MeshArrays& mesh, vint id, st
     const vfloat V = Ax * Cy - Ay * Cx;
     const vfloat W = Bx * Ay - By * Ax;
     const vfloat zero = splat(0.0f);
-    const vint mixed = ((U < zero) | (V < zero) | (W < zero)) & ((U > zero) | (V > zero) | (W > zero));
+    const vint below_u = U < zero, below_v = V < zero, below_w = W < zero;
+    const vint above_u = U > zero, above_v = V > zero, above_w = W > zero;
+    const vint mixed = (below_u | below_v | below_w) & (above_u | above_v | above_w);
     const vfloat det = U + V + W;
     const vfloat Az = sz * Akz, Bz = sz * Bkz, Cz = sz * Ckz;
     const vfloat T = U * Az + V * Bz + W * Cz;
@@ -155,9 +161,10 @@ inline bool test_lanes(const KernelRay& ray, const MeshArrays& mesh, vint id, st
     const vfloat t = T * inv_det;
     const vint pass = ~mixed & (det != zero) & ((T - T) == zero) & ~outside &
                       (t >= splat(search.t_min())) & (t <= splat(search.best_t()));
-    // Lanes with an edge function exactly zero take intersect_triangle's double-precision
-    // path, one by one, below.
-    const std::uint32_t exact = lane_bits((U == zero) | (V == zero) | (W == zero)) & lanes;
+    // Lanes with an edge function neither below nor above zero (zero, or NaN) take
+    // intersect_triangle's exact path, one by one, below (detail::edge_sign_is_uncertain).
+    const std::uint32_t exact =
+        lane_bits(~(below_u | above_u) | ~(below_v | above_v) | ~(below_w | above_w)) & lanes;
     std::uint32_t todo = (lane_bits(pass) & lanes) | exact;
     if (todo == 0) return false;
     const vfloat u = V * inv_det, v = W * inv_det;
@@ -166,8 +173,7 @@ inline bool test_lanes(const KernelRay& ray, const MeshArrays& mesh, vint id, st
         const auto tri = static_cast<std::uint32_t>(id[l]);
         float tl = t[l], ul = u[l], vl = v[l];
         if ((exact >> l) & 1u) {
-            if (!test_one<TriangleTest::watertight>(ray, mesh.view, tri, search.t_min(),
-                                                    search.best_t(), tl, ul, vl))
+            if (!test_one<test>(ray, mesh.view, tri, search.t_min(), search.best_t(), tl, ul, vl))
                 continue;
         } else if (!(tl <= search.best_t())) {
             continue;  // a lane before this one was closer
