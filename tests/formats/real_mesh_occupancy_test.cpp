@@ -15,6 +15,7 @@
 #include "splitgrid/occupancy.hpp"
 #include "support/crossings_oracle.hpp"
 #include "support/oracle.hpp"
+#include "support/shared_meshes.hpp"
 
 namespace sg {
 namespace {
@@ -78,12 +79,7 @@ TEST_P(RealClosedMesh, PointsNearVerticesAlongAxesAndDiagonalsAreDecidedExactly)
 INSTANTIATE_TEST_SUITE_P(SharedMeshes, RealClosedMesh,
                          ::testing::Values("scanned/bunny_npm.obj",
                                            "scanned/stanford_dragon_vrip_res4.ply"),
-                         [](const ::testing::TestParamInfo<const char*>& param_info) {
-                             std::string name = std::filesystem::path(param_info.param).stem().string();
-                             for (char& c : name)
-                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                             return name;
-                         });
+                         test::mesh_test_name);
 
 }  // namespace
 }  // namespace sg

@@ -7,6 +7,7 @@
 
 #include "splitgrid/formats/mesh_import.hpp"
 #include "support/oracle.hpp"
+#include "support/shared_meshes.hpp"
 #include "support/random_scene.hpp"
 
 namespace sg {
@@ -43,12 +44,7 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, RealMesh,
                                            "gltf/smallpine/scene.gltf",
                                            "scenes/crytek_sponza_columns_shrubbery_part.obj",
                                            "scenes/mountain.obj"),
-                         [](const ::testing::TestParamInfo<const char*>& param_info) {
-                             std::string name = std::filesystem::path(param_info.param).stem().string();
-                             for (char& c : name)
-                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                             return name;
-                         });
+                         test::mesh_test_name);
 
 }  // namespace
 }  // namespace sg
