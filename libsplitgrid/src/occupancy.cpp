@@ -49,7 +49,11 @@ Ray occupancy_ray(Vec3f point, const Aabb& box, std::uint32_t sample,
             if (down < shortest) shortest = down, axis = k, sign = -1.0f;
             if (up < shortest) shortest = up, axis = k, sign = 1.0f;
         }
+        // Tilted off the axis: a ray parallel to two axes is one that a BVH's box test cannot
+        // narrow on those axes (it visits every box the axis' slab crosses).
         ray.direction[axis] = sign;
+        ray.direction[(axis + 1) % 3] = 0x1p-5f;
+        ray.direction[(axis + 2) % 3] = 0x1p-7f;
         return ray;
     }
     // Fibonacci lattice over the sphere: point k of n = nsamples - 1, z evenly spaced.

@@ -12,12 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "splitgrid/baselines/bvh.hpp"
-#include "splitgrid/baselines/kd_tree.hpp"
-#include "splitgrid/baselines/uniform_grid.hpp"
 #include "splitgrid/closed_shapes.hpp"
 #include "splitgrid/intersections.hpp"
 #include "splitgrid/traverse.hpp"
+#include "support/all_structures.hpp"
 #include "support/crossings_oracle.hpp"
 #include "support/oracle.hpp"
 #include "support/random_scene.hpp"
@@ -33,50 +31,24 @@ struct Structure {
     std::function<Hit(const Ray&)> closest;
 };
 
-/// The four structures built on `mesh` (which must outlive them), and brute force.
-class AllStructures {
-public:
-    explicit AllStructures(const Mesh& mesh)
-        : mesh_(mesh), grid_(build_checked(mesh)), bvh_(Bvh::build(mesh.view())),
-          kd_(KdTree::build(mesh.view())), uniform_(UniformGrid::build(mesh.view()))
-    {
-    }
-
-    [[nodiscard]] std::vector<Structure> all() const
-    {
-        const MeshView m = mesh_.view();
-        std::vector<Structure> out;
-        out.push_back({"split grid",
-                       [this, m](std::span<const Ray> r) {
-                           std::vector<std::int32_t> c(r.size());
-                           count_intersections(grid_, m, r, c);
-                           return c;
-                       },
-                       [this, m](std::span<const Ray> r) {
-                           IntersectionList l;
-                           list_intersections(grid_, m, r, l);
-                           return l;
-                       },
-                       [this, m](const Ray& r) { return intersect(grid_, m, r); }});
-        add(out, "bvh", bvh_);
-        add(out, "kd-tree", kd_);
-        add(out, "uniform grid", uniform_);
-        out.push_back({"brute force",
-                       [m](std::span<const Ray> r) {
-                           std::vector<std::int32_t> c;
-                           for (const Ray& ray : r)
-                               c.push_back(static_cast<std::int32_t>(all_hits_brute_force(m, ray).size()));
-                           return c;
-                       },
-                       nullptr, [m](const Ray& r) { return intersect_brute_force(m, r); }});
-        return out;
-    }
-
-private:
-    template <class S>
-    void add(std::vector<Structure>& out, const char* name, const S& s) const
-    {
-        const MeshView m = mesh_.view();
+/// Each structure's queries on `built`, and brute force's.
+std::vector<Structure> queries_of(const AllStructures& built)
+{
+    const MeshView m = built.mesh.view();
+    std::vector<Structure> out;
+    out.push_back({"split grid",
+                   [&built, m](std::span<const Ray> r) {
+                       std::vector<std::int32_t> c(r.size());
+                       count_intersections(built.grid, m, r, c);
+                       return c;
+                   },
+                   [&built, m](std::span<const Ray> r) {
+                       IntersectionList l;
+                       list_intersections(built.grid, m, r, l);
+                       return l;
+                   },
+                   [&built, m](const Ray& r) { return intersect(built.grid, m, r); }});
+    auto add = [&](const char* name, const auto& s) {
         out.push_back({name,
                        [&s, m](std::span<const Ray> r) {
                            std::vector<std::int32_t> c(r.size());
@@ -89,21 +61,27 @@ private:
                            return l;
                        },
                        [&s, m](const Ray& r) { return s.intersect(m, r); }});
-    }
-
-    const Mesh& mesh_;
-    SplitGrid grid_;
-    Bvh bvh_;
-    KdTree kd_;
-    UniformGrid uniform_;
-};
+    };
+    add("bvh", built.bvh);
+    add("kd-tree", built.kd);
+    add("uniform grid", built.uniform);
+    out.push_back({"brute force",
+                   [m](std::span<const Ray> r) {
+                       std::vector<std::int32_t> c;
+                       for (const Ray& ray : r)
+                           c.push_back(static_cast<std::int32_t>(all_hits_brute_force(m, ray).size()));
+                       return c;
+                   },
+                   nullptr, [m](const Ray& r) { return intersect_brute_force(m, r); }});
+    return out;
+}
 
 /// Every structure's counts of `rays` must equal `expected` (one per ray).
 void expect_counts(const Mesh& mesh, const std::vector<Ray>& rays,
                    const std::vector<std::int32_t>& expected, const std::string& what)
 {
-    const AllStructures structures(mesh);
-    for (const Structure& s : structures.all()) {
+    const AllStructures built(mesh);
+    for (const Structure& s : queries_of(built)) {
         const std::vector<std::int32_t> counts = s.count(rays);
         std::size_t wrong = 0;
         std::string first;
@@ -278,8 +256,8 @@ TEST(ExactEdges, EqualHitsGoToTheSmallestTriangleIdInEveryStructure)
     std::shuffle(order.begin(), order.end(), std::mt19937(5));
     for (std::uint32_t k = 0; k < n; ++k) mesh.triangles.push_back(mesh.triangles[order[k]]);
     const std::vector<Ray> rays = rays_at_triangles(42, 3000, Aabb{{0, 0, 0}, {10, 10, 10}}, mesh.view());
-    const AllStructures structures(mesh);
-    for (const Structure& s : structures.all()) {
+    const AllStructures built(mesh);
+    for (const Structure& s : queries_of(built)) {
         std::size_t hits = 0, wrong = 0;
         for (const Ray& r : rays) {
             const Hit h = s.closest(r);
@@ -331,8 +309,8 @@ TEST(MultiHit, ListsAndCountsEqualBruteForceOverAllTriangles)
         expected.ray_splits.push_back(expected.hits.size());
     }
     ASSERT_GT(several, rays.size() / 10) << "too few rays with several hits to test anything";
-    const AllStructures structures(mesh);
-    for (const Structure& s : structures.all()) {
+    const AllStructures built(mesh);
+    for (const Structure& s : queries_of(built)) {
         if (!s.list) continue;
         // In two batches joined by concatenate, as a parallel caller does.
         const std::size_t half = rays.size() / 2;

@@ -10,7 +10,9 @@
 namespace sg {
 
 /// The rays occupancy casts from `point` for a structure whose root box is `box`: sample 0
-/// along the axis direction that leaves the box soonest (the shortest walk), samples 1 ..
+/// along the axis direction that leaves the box soonest (the shortest walk), tilted by 2^-5
+/// and 2^-7 towards the other two axes (a ray parallel to two axes makes a BVH visit every
+/// box its slab crosses), samples 1 ..
 /// nsamples - 1 along directions spread evenly over the sphere (a Fibonacci lattice), the
 /// same for every point. Each ray runs over [0, infinity).
 [[nodiscard]] Ray occupancy_ray(Vec3f point, const Aabb& box, std::uint32_t sample,
