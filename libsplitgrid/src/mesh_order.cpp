@@ -32,7 +32,40 @@ std::uint64_t spread_bits(std::uint64_t q) noexcept
 std::uint64_t step_of(double c, double lo, double steps_per_unit) noexcept
 {
     const double s = (c - lo) * steps_per_unit;
-    return s <= 0.0 ? 0 : std::min(largest_step, static_cast<std::uint64_t>(s));
+    if (!(s > 0.0)) return 0;  // below the box, or NaN
+    return s >= double{largest_step} ? largest_step : static_cast<std::uint64_t>(s);
+}
+
+/// Morton codes over a box: 2^21 steps per axis of it (an axis of zero extent: one step).
+class MortonGrid {
+public:
+    explicit MortonGrid(const Aabb& box) noexcept
+    {
+        for (int a = 0; a < 3; ++a) {
+            lo_[a] = box.lower[a];
+            const double extent = double{box.upper[a]} - double{box.lower[a]};
+            scale_[a] = extent > 0.0 ? steps_per_axis / extent : 0.0;
+        }
+    }
+    [[nodiscard]] std::uint64_t code(const double (&c)[3]) const noexcept
+    {
+        std::uint64_t code = 0;
+        for (int a = 0; a < 3; ++a) code |= spread_bits(step_of(c[a], lo_[a], scale_[a])) << a;
+        return code;
+    }
+
+private:
+    double lo_[3];
+    double scale_[3];
+};
+
+/// The ids sorted by their codes; equal codes keep their order.
+std::vector<std::uint32_t> sorted_by_code(std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed)
+{
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<std::uint32_t> order(keyed.size());
+    for (std::size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
+    return order;
 }
 
 }  // namespace
@@ -42,29 +75,28 @@ std::vector<std::uint32_t> morton_order(const MeshView& mesh)
     const std::size_t count = mesh.triangles.size();
     if (count > std::numeric_limits<std::uint32_t>::max())
         throw InputError("more than 2^32 - 1 triangles, the limit of 32-bit triangle ids");
-    const Aabb box = checked_bounds(mesh);
-    double lo[3];
-    double scale[3];
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = box.lower[a];
-        const double extent = double{box.upper[a]} - double{box.lower[a]};
-        scale[a] = extent > 0.0 ? steps_per_axis / extent : 0.0;
-    }
+    const MortonGrid grid(checked_bounds(mesh));
     std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(count);
     for (std::size_t t = 0; t < count; ++t) {
-        std::uint64_t code = 0;
+        double centroid[3] = {0.0, 0.0, 0.0};
         for (int a = 0; a < 3; ++a) {
-            double centroid = 0.0;
-            for (const std::uint32_t v : mesh.triangles[t].v) centroid += mesh.vertices[v][a];
-            code |= spread_bits(step_of(centroid / 3.0, lo[a], scale[a])) << a;
+            for (const std::uint32_t v : mesh.triangles[t].v) centroid[a] += mesh.vertices[v][a];
+            centroid[a] /= 3.0;
         }
-        keyed[t] = {code, static_cast<std::uint32_t>(t)};
+        keyed[t] = {grid.code(centroid), static_cast<std::uint32_t>(t)};
     }
-    // Pairs compare by code, then by id: equal codes keep the input's order.
-    std::sort(keyed.begin(), keyed.end());
-    std::vector<std::uint32_t> order(count);
-    for (std::size_t i = 0; i < count; ++i) order[i] = keyed[i].second;
-    return order;
+    return sorted_by_code(std::move(keyed));
+}
+
+std::vector<std::uint32_t> morton_order(std::span<const Vec3f> points, const Aabb& box)
+{
+    const MortonGrid grid(box);
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const double c[3] = {points[i].x, points[i].y, points[i].z};
+        keyed[i] = {grid.code(c), static_cast<std::uint32_t>(i)};
+    }
+    return sorted_by_code(std::move(keyed));
 }
 
 Mesh extract_triangles(const MeshView& mesh, std::span<const std::uint32_t> ids)

@@ -233,5 +233,35 @@ TEST(MeshOrder, RefusesABadMeshOrOrderAndLeavesTheMeshUnchanged)
     EXPECT_TRUE(empty.vertices.empty());
 }
 
+TEST(MeshOrder, PointsFollowTheZOrderOfTheBoxAndOutsidersClampToIt)
+{
+    // The centres of a 4 x 4 x 4 grid of cells over the box [0, 4]^3, shuffled: the order is
+    // the cells' Z-order (bit b of x, y, z to bits 3b, 3b + 1, 3b + 2). A point below the box
+    // and a NaN point come first (clamped to the lower corner), one above it last.
+    std::vector<Vec3f> points;
+    for (std::uint32_t z = 0; z < 4; ++z)
+        for (std::uint32_t y = 0; y < 4; ++y)
+            for (std::uint32_t x = 0; x < 4; ++x)
+                points.push_back({float(x) + 0.5f, float(y) + 0.5f, float(z) + 0.5f});
+    std::shuffle(points.begin(), points.end(), std::mt19937(9));
+    points.push_back({-5.0f, -1.0f, -2.0f});
+    points.push_back({std::nanf(""), std::nanf(""), std::nanf("")});
+    points.push_back({9.0f, 9.0f, 9.0f});
+    const std::vector<std::uint32_t> order = morton_order(points, Aabb{{0, 0, 0}, {4, 4, 4}});
+    ASSERT_EQ(order.size(), points.size());
+    EXPECT_EQ(order[0], 64u);  // equal codes keep their order: the outsider before the NaN
+    EXPECT_EQ(order[1], 65u);
+    EXPECT_EQ(order.back(), 66u);
+    auto key = [](Vec3f p) {
+        std::uint32_t k = 0;
+        for (int b = 0; b < 2; ++b)
+            for (int a = 0; a < 3; ++a)
+                k |= ((static_cast<std::uint32_t>(p[a]) >> b) & 1u) << (3 * b + a);
+        return k;
+    };
+    for (std::size_t i = 3; i + 1 < order.size(); ++i)
+        EXPECT_LT(key(points[order[i - 1]]), key(points[order[i]])) << i;
+}
+
 }  // namespace
 }  // namespace sg

@@ -4,6 +4,7 @@
 #include <span>
 #include <vector>
 
+#include "splitgrid/aabb.hpp"
 #include "splitgrid/mesh.hpp"
 
 namespace sg {
@@ -17,6 +18,14 @@ namespace sg {
 /// vertex array, a non-finite corner) and for more than 2^32 - 1 triangles. Cost: one pass
 /// over the triangles to check them and find the box, one to code them, and a sort.
 [[nodiscard]] std::vector<std::uint32_t> morton_order(const MeshView& mesh);
+
+/// The indices of `points` in the order of a Morton curve over `box` (2^21 steps per axis;
+/// points outside the box clamped to it, a NaN to its lower side; equal codes keep their
+/// order), so that point queries taken in this order visit the structure's nodes and the
+/// mesh near where the query before them did. At most 2^32 - 1 points. Cost: a pass and a
+/// sort.
+[[nodiscard]] std::vector<std::uint32_t> morton_order(std::span<const Vec3f> points,
+                                                      const Aabb& box);
 
 /// The triangles `ids` of `mesh`, in that order, with only the vertices they use, numbered in
 /// the order the triangles first use them. Each triangle keeps its corners in their order with

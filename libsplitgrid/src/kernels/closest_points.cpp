@@ -11,6 +11,7 @@
 #include "split_grid_point_walk.hpp"
 #include "splitgrid/builder.hpp"
 #include "splitgrid/closest_point.hpp"
+#include "splitgrid/mesh_order.hpp"
 #include "splitgrid/occupancy.hpp"
 #include "uniform_grid_point_walk.hpp"
 
@@ -18,6 +19,9 @@ namespace sg {
 namespace {
 
 using kernels::points::PointSearch;
+
+/// Batches of fewer points are answered in their order.
+constexpr std::size_t morton_batch = 32;
 
 /// Largest coordinate magnitude of `box` (0 for an empty box): the M of the tolerance.
 float magnitude(const Aabb& box) noexcept
@@ -69,15 +73,23 @@ void closest_points(const Structure& structure, const MeshView& mesh,
     const Aabb& box = root_box(structure);
     const float m = magnitude(box);
     const float pad = box.is_empty() ? 0.0f : boundary_pad(box);
-    for (std::size_t i = 0; i < points.size(); ++i) {
+    auto answer = [&](std::size_t i) {
         if (!is_finite(points[i])) {
             out[i] = invalid_point();
-            continue;
+            return;
         }
         PointSearch search(points[i], m, max_distance);
         walk(structure, mesh, search, pad);
         out[i] = search.result();
+    };
+    // Points taken along a Morton curve: each search then finds the nodes, leaves and corners
+    // the one before it read still in the cache (docs/notebook/points.md, "Points in Morton
+    // order"). Every answer is independent of the order.
+    if (points.size() < morton_batch) {
+        for (std::size_t i = 0; i < points.size(); ++i) answer(i);
+        return;
     }
+    for (const std::uint32_t i : morton_order(points, box)) answer(i);
 }
 
 template <class Structure>
