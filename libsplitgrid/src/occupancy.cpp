@@ -12,16 +12,10 @@
 #include "splitgrid/error.hpp"
 #include "splitgrid/split_grid.hpp"
 #include "splitgrid/structure_queries.hpp"
+#include "structure_box.hpp"
 
 namespace sg {
 namespace {
-
-const Aabb& root_box(const SplitGrid& grid) noexcept { return grid.root_box; }
-template <class Structure>
-const Aabb& root_box(const Structure& structure) noexcept
-{
-    return structure.box();
-}
 
 bool inside_closed_box(Vec3f p, const Aabb& box) noexcept
 {
@@ -75,7 +69,7 @@ void compute_occupancy(const Structure& structure, const MeshView& mesh,
     if (nsamples == 0 || nsamples % 2 == 0)
         throw ConfigError("occupancy: nsamples = " + std::to_string(nsamples) +
                           " must be odd (a majority of the rays' votes decides)");
-    const Aabb& box = root_box(structure);
+    const Aabb& box = detail::root_box(structure);
     std::array<Ray, batch_points> rays;
     std::array<std::int32_t, batch_points> counts;
     std::array<std::size_t, batch_points> point_of;

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <span>
 
+#include "splitgrid/closest_point.hpp"
 #include "splitgrid/intersections.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/query.hpp"
@@ -29,6 +30,11 @@ void count_hits(const Structure& structure, const MeshView& mesh, std::span<cons
 template <class Structure>
 void all_hits(const Structure& structure, const MeshView& mesh, std::span<const Ray> rays,
               IntersectionList& out);
+/// The closest point of each of `points`, taken in `order` (closest_point.hpp).
+template <class Structure>
+void closest_point_hits(const Structure& structure, const MeshView& mesh,
+                        std::span<const Vec3f> points, std::span<const std::uint32_t> order,
+                        std::span<ClosestPoint> out, float max_distance) noexcept;
 
 }  // namespace detail
 

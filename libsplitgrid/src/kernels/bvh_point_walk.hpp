@@ -1,22 +1,25 @@
 #pragma once
 
-// Point queries, part 3: the BVH's closest point search (baselines/bvh.hpp).
+// Traversal kernels: the BVH's closest point search (baselines/bvh.hpp).
 
-#include <array>
+#ifndef SG_KERNEL_ISA
+#error "kernel headers are included by kernels_isa.inc only"
+#endif
 
-#include "point_search.hpp"
-#include "splitgrid/baselines/bvh.hpp"
-
-namespace sg::kernels::points {
+namespace sg::kernels::SG_KERNEL_ISA {
 
 /// Depth first over the wide nodes, each node's children nearest first by the distance to
 /// their boxes (which hold their triangles whole, padded); a pending child is skipped when its
-/// box lies beyond the search's bound by the time it is popped.
-inline void walk_bvh(const Bvh& bvh, const MeshView& mesh, PointSearch& search) noexcept
+/// box lies beyond the search's bound by the time it is popped. A leaf's references (at most
+/// eight) are measured in one batch (test_point_lanes).
+inline void walk_bvh_points(const Bvh& bvh, const MeshArrays& mesh,
+                            points::PointSearch& search) noexcept
 {
     const std::span<const BvhWideNode> wide = bvh.wide_nodes();
-    if (wide.empty() || search.prunes(box_distance2(search.point(), bvh.box()))) return;
+    if (wide.empty() || search.prunes(points::box_distance2(search.point(), bvh.box()))) return;
     const std::uint32_t* const refs = bvh.refs().data();
+    const std::uint32_t* const refs_end = refs + bvh.refs().size();
+    NoMailbox no_mailbox;
     struct Pending {
         std::uint32_t child;
         std::uint32_t count;  ///< 0 for a wide node
@@ -30,7 +33,7 @@ inline void walk_bvh(const Bvh& bvh, const MeshView& mesh, PointSearch& search) 
         const Pending p = stack[--sp];
         if (search.prunes(p.distance2)) continue;
         if (p.count != 0) {
-            for (std::uint32_t k = 0; k < p.count; ++k) search.offer(mesh, refs[p.child + k]);
+            test_point_ids(search, mesh, no_mailbox, refs + p.child, p.count, refs_end);
             continue;
         }
         const BvhWideNode& node = wide[p.child];
@@ -43,7 +46,7 @@ inline void walk_bvh(const Bvh& bvh, const MeshView& mesh, PointSearch& search) 
                 box.lower[k] = node.lower[k][i];
                 box.upper[k] = node.upper[k][i];
             }
-            const double d2 = box_distance2(search.point(), box);
+            const double d2 = points::box_distance2(search.point(), box);
             if (search.prunes(d2)) continue;
             // Insertion by distance, farthest first, so that the nearest is pushed last.
             const Pending child{node.child[i], node.count[i], d2};
@@ -55,4 +58,4 @@ inline void walk_bvh(const Bvh& bvh, const MeshView& mesh, PointSearch& search) 
     }
 }
 
-}  // namespace sg::kernels::points
+}  // namespace sg::kernels::SG_KERNEL_ISA

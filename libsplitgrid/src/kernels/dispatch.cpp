@@ -177,11 +177,23 @@ template void any_hits(const KdTree&, const MeshView&, std::span<const Ray>,
 template void any_hits(const UniformGrid&, const MeshView&, std::span<const Ray>,
                        std::span<std::uint8_t>, TraversalCounters*) noexcept;
 
+template <class Structure>
+void closest_point_hits(const Structure& structure, const MeshView& mesh,
+                        std::span<const Vec3f> points, std::span<const std::uint32_t> order,
+                        std::span<ClosestPoint> out, float max_distance) noexcept
+{
+    const auto& k = active_table().load(std::memory_order_relaxed)->template of<Structure>();
+    k.closest_point(structure, mesh, points, order, out, max_distance);
+}
+
 #define SG_INSTANTIATE_MULTI_HIT(Structure)                                                   \
     template void count_hits(const Structure&, const MeshView&, std::span<const Ray>,          \
                              std::span<std::int32_t>, TriangleTest) noexcept;                  \
     template void all_hits(const Structure&, const MeshView&, std::span<const Ray>,            \
-                           IntersectionList&);
+                           IntersectionList&);                                                   \
+    template void closest_point_hits(const Structure&, const MeshView&, std::span<const Vec3f>, \
+                                     std::span<const std::uint32_t>, std::span<ClosestPoint>,    \
+                                     float) noexcept;
 SG_INSTANTIATE_MULTI_HIT(SplitGrid)
 SG_INSTANTIATE_MULTI_HIT(Bvh)
 SG_INSTANTIATE_MULTI_HIT(KdTree)

@@ -1,30 +1,23 @@
 #pragma once
 
-// Point queries, part 4: the kd-tree's closest point search (baselines/kd_tree.hpp).
+// Traversal kernels: the kd-tree's closest point search (baselines/kd_tree.hpp).
 
-#include <array>
+#ifndef SG_KERNEL_ISA
+#error "kernel headers are included by kernels_isa.inc only"
+#endif
 
-#include "point_search.hpp"
-#include "splitgrid/baselines/kd_tree.hpp"
-
-namespace sg::kernels::points {
+namespace sg::kernels::SG_KERNEL_ISA {
 
 /// Depth first, the child on the point's side of each split first; the other child waits on
 /// a stack with its box, and is skipped when its box (widened by the pad the builder assigned
-/// triangles with) lies beyond the search's bound by the time it is popped.
-inline void walk_kd_tree(const KdTree& tree, const MeshView& mesh, PointSearch& search,
-                         float pad) noexcept
+/// triangles with) lies beyond the search's bound by the time it is popped. Leaves share a
+/// mailbox, since a triangle is referenced by every leaf it reaches.
+inline void walk_kd_tree_points(const KdTree& tree, const MeshArrays& mesh,
+                                points::PointSearch& search, float pad) noexcept
 {
     const std::span<const KdNode> nodes = tree.nodes();
     if (nodes.empty()) return;
-    auto widened = [pad](Aabb box) {
-        for (int k = 0; k < 3; ++k) {
-            box.lower[k] -= pad;
-            box.upper[k] += pad;
-        }
-        return box;
-    };
-    const Vec3d q = search.point();
+    const points::Vec3d q = search.point();
     const double qk[3] = {q.x, q.y, q.z};
     struct Pending {
         std::uint32_t node;
@@ -34,10 +27,16 @@ inline void walk_kd_tree(const KdTree& tree, const MeshView& mesh, PointSearch& 
     std::size_t sp = 0;
     stack[sp++] = Pending{0, tree.box()};
     const std::uint32_t* const refs = tree.refs().data();
-    PointMailbox mailbox;  // a triangle is referenced by every leaf it reaches
+    const std::uint32_t* const refs_end = refs + tree.refs().size();
+    Mailbox mailbox;
     while (sp > 0) {
         Pending p = stack[--sp];
-        if (search.prunes(box_distance2(q, widened(p.box)))) continue;
+        Aabb widened = p.box;
+        for (int k = 0; k < 3; ++k) {
+            widened.lower[k] -= pad;
+            widened.upper[k] += pad;
+        }
+        if (search.prunes(points::box_distance2(q, widened))) continue;
         KdNode node = nodes[p.node];
         while (!node.is_leaf()) {
             const int a = node.axis();
@@ -52,11 +51,10 @@ inline void walk_kd_tree(const KdTree& tree, const MeshView& mesh, PointSearch& 
             p = below_first ? Pending{below_child, below} : Pending{above_child, above};
             node = nodes[p.node];
         }
-        for (std::uint32_t k = 0; k < node.ref_count(); ++k) {
-            const std::uint32_t tri = refs[node.first_ref() + k];
-            if (mailbox.first_visit(tri)) search.offer(mesh, tri);
-        }
+        if (node.ref_count() > 0)
+            test_point_ids(search, mesh, mailbox, refs + node.first_ref(), node.ref_count(),
+                           refs_end);
     }
 }
 
-}  // namespace sg::kernels::points
+}  // namespace sg::kernels::SG_KERNEL_ISA

@@ -21,10 +21,14 @@
 #endif
 
 #include "kernel_table.hpp"
+#include "point_search.hpp"
+#include "../structure_box.hpp"
 #include "splitgrid/aabb.hpp"
 #include "splitgrid/baselines/bvh.hpp"
 #include "splitgrid/baselines/kd_tree.hpp"
 #include "splitgrid/baselines/uniform_grid.hpp"
+#include "splitgrid/builder.hpp"
+#include "splitgrid/leaf_words.hpp"
 #include "splitgrid/cell_math.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/grid_node.hpp"

@@ -100,13 +100,7 @@ struct KernelRay {
     }
 };
 
-/// Largest coordinate magnitude of `box` (0 for an empty box): the M of crossing_pad_unit.
-[[nodiscard]] inline float box_magnitude(const Aabb& box) noexcept
-{
-    if (box.is_empty()) return 0.0f;
-    float m = 0.0f;
-    for (int k = 0; k < 3; ++k) m = std::max({m, std::abs(box.lower[k]), std::abs(box.upper[k])});
-    return m;
-}
+/// The M of crossing_pad_unit.
+using detail::box_magnitude;
 
 }  // namespace sg::kernels::SG_KERNEL_ISA

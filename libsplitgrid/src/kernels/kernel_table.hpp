@@ -10,6 +10,7 @@
 #include "splitgrid/baselines/bvh.hpp"
 #include "splitgrid/baselines/kd_tree.hpp"
 #include "splitgrid/baselines/uniform_grid.hpp"
+#include "splitgrid/closest_point.hpp"
 #include "splitgrid/intersections.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/query.hpp"
@@ -38,6 +39,13 @@ template <class Structure>
 using AllKernel = void (*)(const Structure&, const MeshView&, std::span<const Ray>,
                            IntersectionList& out);
 
+/// The closest point of each of `points` (taken in `order`, a permutation of their
+/// indices) into `out` (same size), within `max_distance`.
+template <class Structure>
+using PointKernel = void (*)(const Structure&, const MeshView&, std::span<const Vec3f> points,
+                             std::span<const std::uint32_t> order, std::span<ClosestPoint> out,
+                             float max_distance);
+
 template <class Structure>
 struct StructureKernels {
     /// [TriangleTest][Padding][counting]; TriangleTest::watertight_no_tie_break is not offered
@@ -49,6 +57,7 @@ struct StructureKernels {
     CountKernel<Structure> count[3];
     /// watertight test, conservative padding
     AllKernel<Structure> all;
+    PointKernel<Structure> closest_point;
 };
 
 // The tables are indexed by these enums' values.

@@ -3,6 +3,11 @@
 // SSE2 kernels' bit for bit.
 #include "kernel_deps.hpp"
 
+// The point queries' 8-wide doubles are passed between inline functions of this file only, so
+// the note that their calling convention differs from AVX-512 code concerns no interface
+// (libsplitgrid/CMakeLists.txt turns it off where GCC gives it no source location).
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 #pragma GCC push_options
 #pragma GCC target("avx2,fma,bmi,bmi2,lzcnt,popcnt,f16c,movbe")
 #define SG_KERNEL_ISA avx2

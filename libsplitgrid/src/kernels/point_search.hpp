@@ -1,9 +1,10 @@
 #pragma once
 
-// Point queries, part 1: the distance from a point to a triangle, and the state of one closest
-// point search (closest_point.hpp), shared by every structure's point walk. Plain double
-// precision, compiled once (src/kernels/closest_points.cpp): the walks' cost is in their
-// boxes and triangles, not in vector width.
+// Point queries: the distance from a point to a triangle, and the state of one closest point
+// search (closest_point.hpp), shared by every structure's point walk, in plain double
+// precision. Included by kernel_deps.hpp, so compiled for the baseline instruction set: the
+// batched lanes (point_lanes.hpp) measure triangles eight at a time with the same operations
+// and hand their results here.
 
 #include <algorithm>
 #include <cmath>
@@ -147,16 +148,17 @@ public:
         for (const Vec3f& c : cf) box.extend(c);
         if (prunes(box_distance2(q_, box))) return;
         const TrianglePoint p = closest_on_triangle(q_, cf);
-        if (!(p.distance2 <= bound2_)) return;
-        // Within the bound: closer by more than the tolerance, or as close and a smaller id.
-        if (found_ && !(p.distance2 < closer2_) && tri > triangle_) return;
-        found_ = true;
-        best_ = p;
-        triangle_ = tri;
-        const double best = std::sqrt(p.distance2);
-        const double reach = best + tolerance_;
-        bound2_ = std::min(limit2_, reach * reach);
-        closer2_ = best > tolerance_ ? (best - tolerance_) * (best - tolerance_) : -1.0;
+        if (beats_best(p.distance2, tri)) keep(p, tri);
+    }
+
+    /// Offers triangle `tri` whose squared distance `distance2` was measured already, bit for
+    /// bit as closest_on_triangle measures it (the batched lanes of point_lanes.hpp); the rest
+    /// of its closest point is measured only if it becomes the best.
+    void offer_distance(const MeshView& mesh, std::uint32_t tri, double distance2) noexcept
+    {
+        if (!beats_best(distance2, tri)) return;
+        const Vec3f cf[3] = {mesh.vertex(tri, 0), mesh.vertex(tri, 1), mesh.vertex(tri, 2)};
+        keep(closest_on_triangle(q_, cf), tri);
     }
 
     [[nodiscard]] ClosestPoint result() const noexcept
@@ -173,6 +175,24 @@ public:
     }
 
 private:
+    /// Within the bound, and closer by more than the tolerance, or as close with a smaller id.
+    [[nodiscard]] bool beats_best(double distance2, std::uint32_t tri) const noexcept
+    {
+        if (!(distance2 <= bound2_)) return false;
+        return !found_ || distance2 < closer2_ || tri < triangle_;
+    }
+
+    void keep(const TrianglePoint& p, std::uint32_t tri) noexcept
+    {
+        found_ = true;
+        best_ = p;
+        triangle_ = tri;
+        const double best = std::sqrt(p.distance2);
+        const double reach = best + tolerance_;
+        bound2_ = std::min(limit2_, reach * reach);
+        closer2_ = best > tolerance_ ? (best - tolerance_) * (best - tolerance_) : -1.0;
+    }
+
     Vec3d q_;
     double tolerance_;
     double limit2_;
@@ -181,26 +201,6 @@ private:
     bool found_ = false;
     TrianglePoint best_;
     std::uint32_t triangle_ = invalid_triangle;
-};
-
-/// Triangles one search has tested, direct-mapped on the id's low bits: a triangle that
-/// several cells reference is skipped when met again (its distance cannot change). A
-/// collision forgets the older one, which is then tested again (correct, only slower).
-class PointMailbox {
-public:
-    PointMailbox() noexcept { std::fill(std::begin(slots_), std::end(slots_), invalid_triangle); }
-    /// True the first time `tri` is seen (since its slot was last taken).
-    bool first_visit(std::uint32_t tri) noexcept
-    {
-        std::uint32_t& slot = slots_[tri & (size - 1)];
-        if (slot == tri) return false;
-        slot = tri;
-        return true;
-    }
-
-private:
-    static constexpr std::uint32_t size = 64;
-    std::uint32_t slots_[size];
 };
 
 }  // namespace sg::kernels::points

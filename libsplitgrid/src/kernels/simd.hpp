@@ -16,9 +16,20 @@ inline constexpr int lane_count = 8;
 typedef float vfloat __attribute__((vector_size(32)));
 typedef std::int32_t vint __attribute__((vector_size(32)));
 
+/// Eight doubles and the 64-bit lane masks their comparisons give (point queries measure in
+/// double: point_lanes.hpp).
+typedef double vdouble __attribute__((vector_size(64)));
+typedef std::int64_t vlong __attribute__((vector_size(64)));
+
 /// x in every lane (bit for bit: -0 stays -0).
 [[nodiscard]] inline vfloat splat(float x) noexcept { return vfloat{x, x, x, x, x, x, x, x}; }
 [[nodiscard]] inline vint splat(std::int32_t x) noexcept { return vint{x, x, x, x, x, x, x, x}; }
+[[nodiscard]] inline vdouble splat(double x) noexcept { return vdouble{x, x, x, x, x, x, x, x}; }
+/// The lanes of `x` as doubles (exactly).
+[[nodiscard]] inline vdouble widen(vfloat x) noexcept { return __builtin_convertvector(x, vdouble); }
+/// A 32-bit lane mask as a 64-bit one, and back.
+[[nodiscard]] inline vlong widen(vint mask) noexcept { return __builtin_convertvector(mask, vlong); }
+[[nodiscard]] inline vint narrow(vlong mask) noexcept { return __builtin_convertvector(mask, vint); }
 /// |x| lane by lane, as std::abs (the sign bit cleared).
 [[nodiscard]] inline vfloat abs(vfloat x) noexcept { return (vfloat)((vint)x & 0x7FFFFFFF); }
 

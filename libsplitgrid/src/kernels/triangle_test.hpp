@@ -186,58 +186,52 @@ inline bool test_lanes(const KernelRay& ray, const MeshArrays& mesh, vint id, st
     return kept;
 }
 
-/// Tests one leaf of `count` triangle ids at `ids` (the BVH's, kd-tree's and uniform grid's
-/// leaves), `lane_count` at a time, skipping those `mailbox` has seen. Loads whole vectors of ids
-/// where the array holds them (`ids_end` is its end), so no loop runs per id. True if a hit
-/// was kept.
-template <TriangleTest test, class Search, class Box>
-inline bool test_id_leaf(const KernelRay& ray, const MeshArrays& mesh, Search& search, Box& mailbox,
-                         const std::uint32_t* ids, std::uint32_t count,
-                         const std::uint32_t* ids_end) noexcept
+/// Reads `count` triangle ids at `ids` (`ids_end` the end of their array) `lane_count` at a
+/// time, loading whole vectors where the array holds them, so no loop runs per id: calls
+/// `visit(id, n)` with the next batch in lanes 0 .. n - 1 and the other lanes holding a copy
+/// of lane 0, until the ids end or `visit` returns true. `visit` is a class, not a lambda
+/// (see for_each_leaf_batch).
+template <class Visit>
+[[gnu::always_inline]] inline void for_each_id_batch(const std::uint32_t* ids, std::uint32_t count,
+                                                     const std::uint32_t* ids_end,
+                                                     Visit& visit) noexcept
 {
-    bool kept = false;
     const vint lane_index = {0, 1, 2, 3, 4, 5, 6, 7};
     for (;;) {
         const std::uint32_t n = std::min<std::uint32_t>(count, lane_count);
         vint id = load_ids(ids, n, ids_end);
         id = (lane_index < static_cast<std::int32_t>(n)) ? id : splat(id[0]);
-        const std::uint32_t fresh = mailbox.filter(id, (1u << n) - 1u);
-        if (fresh != 0 && test_lanes<test>(ray, mesh, id, fresh, search)) {
-            kept = true;
-            if (search.done()) return true;
-        }
-        if (count <= lane_count) return kept;
+        if (visit(id, n)) return;
+        if (count <= lane_count) return;
         count -= lane_count;
         ids += lane_count;
     }
 }
 
-/// One batch of a Split Grid leaf's ids, in lanes 0 .. available - 1, the leaf ending at the
-/// first lane set in `last_bits` (none set: it goes on after the batch): tests those `mailbox`
-/// has not seen. True if a hit was kept.
-template <TriangleTest test, class Search, class Box>
-inline bool test_leaf_batch(const KernelRay& ray, const MeshArrays& mesh, Search& search,
-                            Box& mailbox, vint id, std::uint32_t last_bits,
-                            std::uint32_t available) noexcept
+/// Hands `visit` the batch's first n lanes, n ending at the first lane set in `last_bits`
+/// (none set: the leaf goes on after the batch, all `available` lanes), the other lanes a
+/// copy of lane 0. Returns what `visit` returns.
+template <class Visit>
+[[gnu::always_inline]] inline bool visit_leaf_batch(Visit& visit, vint id, std::uint32_t last_bits,
+                                                    std::uint32_t available) noexcept
 {
     const vint lane_index = {0, 1, 2, 3, 4, 5, 6, 7};
     const std::uint32_t n = last_bits != 0 ? static_cast<std::uint32_t>(__builtin_ctz(last_bits)) + 1
                                            : available;
-    id = (lane_index < static_cast<std::int32_t>(n)) ? id : splat(id[0]);
-    const std::uint32_t fresh = mailbox.filter(id, (1u << n) - 1u);
-    return fresh != 0 && test_lanes<test>(ray, mesh, id, fresh, search);
+    return visit((lane_index < static_cast<std::int32_t>(n)) ? id : splat(id[0]), n);
 }
 
-/// Tests one Split Grid leaf, the words from `leaf` on (leaf_words.hpp), `lane_count` references
-/// at a time, skipping those `mailbox` has seen; `end` is the end of the word array. The leaf's
-/// length comes from the lane mask of the last bits, so no loop runs per reference. True if a
-/// hit was kept.
-template <TriangleTest test, class Search, class Box>
-inline bool test_packed_leaf(const KernelRay& ray, const MeshArrays& mesh, Search& search,
-                             Box& mailbox, const std::uint16_t* leaf,
-                             const std::uint16_t* end) noexcept
+/// Reads one Split Grid leaf, the words from `leaf` on (leaf_words.hpp; `end` is the end of
+/// the word array), `lane_count` references at a time: calls `visit(id, n)` with the ids of
+/// the next batch in lanes 0 .. n - 1 and the other lanes holding a copy of lane 0, until the
+/// leaf ends or `visit` returns true. The leaf's length comes from the lane mask of the last
+/// bits, so no loop runs per reference. `visit` is a class, not a lambda: GCC compiles
+/// lambdas without the instruction set of the target region they are written in.
+template <class Visit>
+[[gnu::always_inline]] inline void for_each_leaf_batch(const std::uint16_t* leaf,
+                                                       const std::uint16_t* end,
+                                                       Visit& visit) noexcept
 {
-    bool kept = false;
     // The leaf has its two head words and ends at a marked reference: the kernels run only
     // on grids that passed check_invariants. Past the head, the loads stop at the array's end
     // all the same.
@@ -256,11 +250,8 @@ inline bool test_packed_leaf(const KernelRay& ray, const MeshArrays& mesh, Searc
                 lane_bits((raw & static_cast<std::int32_t>(leaf_code::narrow_last_bit)) != 0) &
                 ((1u << available) - 1u);
             const vint id = base + (raw & static_cast<std::int32_t>(leaf_code::narrow_offset_mask));
-            if (test_leaf_batch<test>(ray, mesh, search, mailbox, id, last_bits, available)) {
-                kept = true;
-                if (search.done()) return true;
-            }
-            if (last_bits != 0 || available < lane_count) return kept;
+            if (visit_leaf_batch(visit, id, last_bits, available)) return;
+            if (last_bits != 0 || available < lane_count) return;
         }
     }
     // Wide: word pairs from the head on, the last bit the sign bit.
@@ -270,12 +261,58 @@ inline bool test_packed_leaf(const KernelRay& ray, const MeshArrays& mesh, Searc
         const vint raw = load_pairs(w, available, end);
         const std::uint32_t last_bits = lane_bits(raw < 0) & ((1u << available) - 1u);
         const vint id = raw & static_cast<std::int32_t>(leaf_code::id_mask);
-        if (test_leaf_batch<test>(ray, mesh, search, mailbox, id, last_bits, available)) {
-            kept = true;
-            if (search.done()) return true;
-        }
-        if (last_bits != 0 || available < lane_count) return kept;
+        if (visit_leaf_batch(visit, id, last_bits, available)) return;
+        if (last_bits != 0 || available < lane_count) return;
     }
+}
+
+/// The ray's side of for_each_leaf_batch: tests the batch's ids that `mailbox` has not seen,
+/// and stops the leaf once an any-hit query is done.
+template <TriangleTest test, class Search, class Box>
+class RayLeafBatch {
+public:
+    RayLeafBatch(const KernelRay& ray, const MeshArrays& mesh, Search& search, Box& mailbox) noexcept
+        : ray_(ray), mesh_(mesh), search_(search), mailbox_(mailbox)
+    {
+    }
+    bool operator()(vint id, std::uint32_t n) noexcept
+    {
+        const std::uint32_t fresh = mailbox_.filter(id, (1u << n) - 1u);
+        if (fresh == 0 || !test_lanes<test>(ray_, mesh_, id, fresh, search_)) return false;
+        kept = true;
+        return search_.done();
+    }
+    bool kept = false;  ///< a hit was kept
+
+private:
+    const KernelRay& ray_;
+    const MeshArrays& mesh_;
+    Search& search_;
+    Box& mailbox_;
+};
+
+/// Tests one leaf of `count` triangle ids at `ids` (the BVH's, kd-tree's and uniform grid's
+/// leaves; for_each_id_batch), skipping those `mailbox` has seen. True if a hit was kept.
+template <TriangleTest test, class Search, class Box>
+inline bool test_id_leaf(const KernelRay& ray, const MeshArrays& mesh, Search& search, Box& mailbox,
+                         const std::uint32_t* ids, std::uint32_t count,
+                         const std::uint32_t* ids_end) noexcept
+{
+    RayLeafBatch<test, Search, Box> batch(ray, mesh, search, mailbox);
+    for_each_id_batch(ids, count, ids_end, batch);
+    return batch.kept;
+}
+
+/// Tests one Split Grid leaf (for_each_leaf_batch), skipping the references `mailbox` has
+/// seen. True if a hit was kept.
+template <TriangleTest test, class Search, class Box>
+inline bool test_packed_leaf(const KernelRay& ray, const MeshArrays& mesh, Search& search,
+                             Box& mailbox, const std::uint16_t* leaf,
+                             const std::uint16_t* end) noexcept
+{
+    RayLeafBatch<test, Search, Box> batch(ray, mesh, search, mailbox);
+    for_each_leaf_batch(leaf, end, batch);
+    return batch.kept;
 }
 
 }  // namespace sg::kernels::SG_KERNEL_ISA

@@ -1,67 +1,22 @@
-// Closest point queries for every structure (closest_point.hpp): the drivers around the point
-// walks of src/kernels/*_point_walk.hpp.
+#include "splitgrid/closest_point.hpp"
 
-#include <cmath>
 #include <limits>
 #include <vector>
 
-#include "bvh_point_walk.hpp"
-#include "kd_tree_point_walk.hpp"
-#include "point_search.hpp"
-#include "split_grid_point_walk.hpp"
-#include "splitgrid/builder.hpp"
-#include "splitgrid/closest_point.hpp"
+#include "kernels/point_search.hpp"
+#include "splitgrid/baselines/bvh.hpp"
+#include "splitgrid/baselines/kd_tree.hpp"
+#include "splitgrid/baselines/uniform_grid.hpp"
 #include "splitgrid/mesh_order.hpp"
 #include "splitgrid/occupancy.hpp"
-#include "uniform_grid_point_walk.hpp"
+#include "splitgrid/structure_queries.hpp"
+#include "structure_box.hpp"
 
 namespace sg {
 namespace {
 
-using kernels::points::PointSearch;
-
 /// Batches of fewer points are answered in their order.
 constexpr std::size_t morton_batch = 32;
-
-/// Largest coordinate magnitude of `box` (0 for an empty box): the M of the tolerance.
-float magnitude(const Aabb& box) noexcept
-{
-    if (box.is_empty()) return 0.0f;
-    float m = 0.0f;
-    for (int k = 0; k < 3; ++k) m = std::max({m, std::abs(box.lower[k]), std::abs(box.upper[k])});
-    return m;
-}
-
-const Aabb& root_box(const SplitGrid& grid) noexcept { return grid.root_box; }
-template <class Structure>
-const Aabb& root_box(const Structure& structure) noexcept
-{
-    return structure.box();
-}
-
-void walk(const SplitGrid& grid, const MeshView& mesh, PointSearch& search, float pad) noexcept
-{
-    kernels::points::SplitGridPointWalk(grid, mesh, search, pad).run();
-}
-void walk(const Bvh& bvh, const MeshView& mesh, PointSearch& search, float) noexcept
-{
-    kernels::points::walk_bvh(bvh, mesh, search);  // its boxes hold whole padded triangles
-}
-void walk(const KdTree& tree, const MeshView& mesh, PointSearch& search, float pad) noexcept
-{
-    kernels::points::walk_kd_tree(tree, mesh, search, pad);
-}
-void walk(const UniformGrid& grid, const MeshView& mesh, PointSearch& search, float pad) noexcept
-{
-    kernels::points::walk_uniform_grid(grid, mesh, search, pad);
-}
-
-ClosestPoint invalid_point() noexcept
-{
-    ClosestPoint out;
-    out.distance = std::numeric_limits<float>::quiet_NaN();
-    return out;
-}
 
 }  // namespace
 
@@ -70,26 +25,20 @@ void closest_points(const Structure& structure, const MeshView& mesh,
                     std::span<const Vec3f> points, std::span<ClosestPoint> out,
                     float max_distance) noexcept
 {
-    const Aabb& box = root_box(structure);
-    const float m = magnitude(box);
-    const float pad = box.is_empty() ? 0.0f : boundary_pad(box);
-    auto answer = [&](std::size_t i) {
-        if (!is_finite(points[i])) {
-            out[i] = invalid_point();
-            return;
-        }
-        PointSearch search(points[i], m, max_distance);
-        walk(structure, mesh, search, pad);
-        out[i] = search.result();
-    };
     // Points taken along a Morton curve: each search then finds the nodes, leaves and corners
     // the one before it read still in the cache (docs/notebook/points.md, "Points in Morton
     // order"). Every answer is independent of the order.
-    if (points.size() < morton_batch) {
-        for (std::size_t i = 0; i < points.size(); ++i) answer(i);
-        return;
+    std::vector<std::uint32_t> order;
+    try {
+        if (points.size() >= morton_batch) order = morton_order(points, detail::root_box(structure));
+    } catch (...) {
+        order.clear();  // no memory for the order: the points' own order answers the same
     }
-    for (const std::uint32_t i : morton_order(points, box)) answer(i);
+    if (order.size() != points.size()) {
+        order.resize(points.size());
+        for (std::size_t i = 0; i < points.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
+    }
+    detail::closest_point_hits(structure, mesh, points, order, out, max_distance);
 }
 
 template <class Structure>
@@ -119,8 +68,12 @@ void signed_distances(const Structure& structure, const MeshView& mesh,
 ClosestPoint closest_point_brute_force(const MeshView& mesh, Vec3f point,
                                        float max_distance) noexcept
 {
-    if (!is_finite(point)) return invalid_point();
-    PointSearch search(point, magnitude(bounds(mesh)), max_distance);
+    if (!is_finite(point)) {
+        ClosestPoint out;
+        out.distance = std::numeric_limits<float>::quiet_NaN();
+        return out;
+    }
+    kernels::points::PointSearch search(point, detail::box_magnitude(bounds(mesh)), max_distance);
     for (std::uint32_t tri = 0; tri < mesh.triangle_count(); ++tri) search.offer(mesh, tri);
     return search.result();
 }
