@@ -22,6 +22,7 @@
 #include <system_error>
 #include <vector>
 
+#include "splitgrid/mesh.hpp"
 #include "support/scratch_dir.hpp"
 
 #include <gtest/gtest.h>
@@ -155,6 +156,18 @@ inline std::string describe(const ToolRun& run)
       << run.out << "--- stderr ---\n"
       << run.err;
     return s.str();
+}
+
+/// `mesh` as the text of an OBJ file (9 significant digits: every float exactly), for tests
+/// that give sg-build a mesh made in the test.
+inline std::string obj_of(const Mesh& mesh)
+{
+    std::ostringstream out;
+    out.precision(9);
+    for (const Vec3f& v : mesh.vertices) out << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n';
+    for (const Triangle& t : mesh.triangles)
+        out << "f " << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << '\n';
+    return out.str();
 }
 
 /// Path of a model in Debian's assimp-testmodels (a dependency installed by
