@@ -4,6 +4,7 @@
 // meshes whose closedness is known (skipped when ../shared/meshes is absent).
 
 #include <filesystem>
+#include <ostream>
 #include <string>
 
 #include "app_test_support.hpp"
@@ -94,6 +95,12 @@ struct SharedMeshCase {
     const char* path;
     bool closed;
 };
+
+/// How gtest and ctest show a case: its path, not its bytes.
+void PrintTo(const SharedMeshCase& c, std::ostream* out)
+{
+    *out << c.path << (c.closed ? " (closed)" : " (open)");
+}
 
 std::string shared_case_name(const ::testing::TestParamInfo<SharedMeshCase>& param_info)
 {
