@@ -488,4 +488,14 @@ Json to_json(const GridStats& stats)
     return j;
 }
 
+Json to_json(const EdgeReport& edges)
+{
+    Json j;
+    j["edges"] = edges.edges;
+    j["open_edges"] = edges.open_edges;
+    j["nonmanifold_edges"] = edges.nonmanifold_edges;
+    j["closed"] = edges.is_closed();
+    return j;
+}
+
 }  // namespace sg::apps

@@ -12,6 +12,7 @@
 #include "output_paths.hpp"
 #include "splitgrid/build_config.hpp"
 #include "splitgrid/formats/library_versions.hpp"
+#include "splitgrid/mesh_edges.hpp"
 #include "splitgrid/stats.hpp"
 
 #include <CLI/CLI.hpp>
@@ -201,5 +202,9 @@ private:
 /// GridStats as a JSON object, one key per field with the field's name (histograms as
 /// arrays, cost_model as an object). docs/STATS_JSON.md documents every key.
 [[nodiscard]] Json to_json(const GridStats& stats);
+
+/// EdgeReport as a JSON object: edges, open_edges, nonmanifold_edges, closed
+/// (docs/STATS_JSON.md; sg-stats and sg-points print it).
+[[nodiscard]] Json to_json(const EdgeReport& edges);
 
 }  // namespace sg::apps

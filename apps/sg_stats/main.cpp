@@ -10,6 +10,7 @@
 
 #include "cli_common.hpp"
 #include "splitgrid/formats/sg_file.hpp"
+#include "splitgrid/mesh_edges.hpp"
 #include "splitgrid/stats.hpp"
 #include "splitgrid/version.hpp"
 
@@ -33,6 +34,7 @@ struct Report {
     sg::SgFileInfo info;
     sg::SgContents contents;
     sg::GridStats stats;
+    sg::EdgeReport edges;
     std::size_t mesh_bytes = 0;
 };
 
@@ -74,6 +76,7 @@ void print_json(const Options& options, const Report& r)
     j["mesh"] = {{"vertex_count", r.contents.mesh.vertices.size()},
                  {"triangle_count", triangles},
                  {"bytes", r.mesh_bytes}};
+    j["edges"] = sg::apps::to_json(r.edges);
     j["root_box"] = {{"lower", vec_json(r.contents.grid.root_box.lower)},
                      {"upper", vec_json(r.contents.grid.root_box.upper)}};
     j["grid"] = sg::apps::to_json(s);
@@ -106,6 +109,10 @@ void print_text(const Options& options, const Report& r)
 
     out += fmt::format("\nmesh            {} vertices stored, {} triangles\n",
                        r.contents.mesh.vertices.size(), triangles);
+    out += fmt::format("edges           {} ({} open: shared by an odd number of triangles; {} "
+                       "non-manifold: by more than two): {}\n",
+                       r.edges.edges, r.edges.open_edges, r.edges.nonmanifold_edges,
+                       r.edges.is_closed() ? "closed" : "not closed");
     out += fmt::format("grid            {} nodes, {} cells ({} empty, {} leaf, {} inner)\n",
                        s.node_count, s.cell_count, s.empty_cells, s.leaf_cells, s.inner_cells);
     out += fmt::format("references      {} to {} distinct triangles (duplication factor {:.3f})\n",
@@ -163,6 +170,7 @@ void stats(const Options& options)
     report.contents = sg::read_sg_file(options.file, read_options);
     report.info = sg::read_sg_info(options.file);
     report.stats = sg::compute_stats(report.contents.grid);
+    report.edges = sg::edge_report(report.contents.mesh.view());
     report.mesh_bytes = report.contents.mesh.vertices.size() * sizeof(sg::Vec3f) +
                         report.contents.mesh.triangles.size() * sizeof(sg::Triangle);
     spdlog::debug("{}: read and checked{}", options.file.string(),
@@ -181,8 +189,10 @@ int main(int argc, char** argv)
     CLI::App app{"", "sg-stats"};
     sg::apps::describe_tool(
         app,
-        "Prints the header, build parameters and statistics of a .sg file: totals, depth,\n"
-        "resolution per depth, leaf sizes, duplication factor, memory and bytes per\n"
+        "Prints the header, build parameters and statistics of a .sg file: the mesh's edges\n"
+        "(open: shared by an odd number of triangles; non-manifold: by more than two; a mesh\n"
+        "without open edges is closed, and sg-points' inside/outside is exact on it), totals,\n"
+        "depth, resolution per depth, leaf sizes, duplication factor, memory and bytes per\n"
         "triangle, and the expected traversal cost.",
         "Expected traversal cost (surface-area model, for a random ray hitting the root box):\n"
         "    sum over inner nodes   P(box)  * node_cost\n"

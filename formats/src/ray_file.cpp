@@ -1,30 +1,22 @@
 // Ray and hit files (docs/FORMAT.md): 8 magic bytes, a little-endian uint64 count, then
-// fixed-size little-endian records. Simple on purpose, so that scripts can write rays and
-// read hits with a few lines of numpy.
+// fixed-size little-endian records (record_file.hpp). Simple on purpose, so that scripts can
+// write rays and read hits with a few lines of numpy.
 
 #include "splitgrid/formats/ray_file.hpp"
 
-#include <algorithm>
 #include <array>
-#include <bit>
 #include <cstdint>
-#include <cstring>
-#include <type_traits>
-#include <span>
-#include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
-#include "file_bytes.hpp"
-#include "splitgrid/error.hpp"
+#include "record_file.hpp"
 #include "splitgrid/formats/output_file.hpp"
 
 namespace sg {
 namespace {
 
-static_assert(std::endian::native == std::endian::little,
-              "ray files are little-endian records copied as bytes: add byte swapping to port "
-              "to a big-endian host");
+using detail::RecordFile;
 
 /// One ray on disk (32 bytes): origin xyz, direction xyz, t_min, t_max, all float32.
 struct RayRecord {
@@ -48,82 +40,12 @@ static_assert(sizeof(HitRecord) == 4 * 4 && std::is_trivially_copyable_v<HitReco
 
 constexpr std::string_view ray_magic = "SGRAY001";
 constexpr std::string_view hit_magic = "SGHIT001";
-constexpr std::size_t magic_bytes = 8;
-constexpr std::size_t prefix_bytes = magic_bytes + sizeof(std::uint64_t);
-
-/// Magic, count, then make_record(i) for each i, straight into the output buffer.
-template <class Record, class MakeRecord>
-std::vector<std::uint8_t> encode(std::string_view magic, std::size_t count,
-                                 MakeRecord make_record)
-{
-    std::vector<std::uint8_t> out(prefix_bytes + count * sizeof(Record));
-    std::memcpy(out.data(), magic.data(), magic_bytes);
-    const std::uint64_t count64 = count;
-    std::memcpy(out.data() + magic_bytes, &count64, sizeof count64);
-    for (std::size_t i = 0; i < count; ++i) {
-        const Record r = make_record(i);
-        std::memcpy(out.data() + prefix_bytes + i * sizeof(Record), &r, sizeof r);
-    }
-    return out;
-}
-
-/// The checked bytes of a ray or hit file.
-struct CheckedFile {
-    std::vector<std::uint8_t> bytes;
-    std::size_t count = 0;
-
-    /// Record i, copied out of the byte buffer (records are not aligned for direct access).
-    template <class Record>
-    [[nodiscard]] Record record(std::size_t i) const
-    {
-        Record r{};
-        std::memcpy(&r, bytes.data() + prefix_bytes + i * sizeof(Record), sizeof r);
-        return r;
-    }
-};
-
-/// Reads a file and checks magic, count and size. The count is checked against the file
-/// size by division, so a forged count can neither overflow nor cause a huge allocation.
-template <class Record>
-CheckedFile read_checked(const std::filesystem::path& path, std::string_view magic,
-                         const std::string& kind)
-{
-    CheckedFile file{detail::read_file_bytes(path), 0};
-    const std::vector<std::uint8_t>& bytes = file.bytes;
-    const std::string name = path.string();
-    const std::size_t checked = std::min(bytes.size(), magic_bytes);
-    // An empty vector may have a null data(), which memcmp must not see even for 0 bytes.
-    if (checked > 0 && std::memcmp(bytes.data(), magic.data(), checked) != 0)
-        throw FormatError(name + ": not a " + kind + " file: bad magic (at byte offset 0, expected \"" +
-                          std::string(magic) + "\")");
-    if (bytes.size() < prefix_bytes)
-        throw FormatError(name + ": truncated: the file is shorter than its header (at byte offset " +
-                          std::to_string(bytes.size()) + ", expected at least " +
-                          std::to_string(prefix_bytes) + " bytes, found " +
-                          std::to_string(bytes.size()) + ")");
-    std::uint64_t count = 0;
-    std::memcpy(&count, bytes.data() + magic_bytes, sizeof count);
-    const std::uint64_t payload = bytes.size() - prefix_bytes;
-    const std::uint64_t room = payload / sizeof(Record);
-    if (count != room || payload % sizeof(Record) != 0) {
-        // "16 + N x 32" rather than the product, which overflows for a forged count.
-        throw FormatError(name + ": " + (count > room ? "truncated: " : "") + "the header counts " +
-                          std::to_string(count) + " " + kind + "s, the file size fits " +
-                          std::to_string(room) + " (at byte offset " +
-                          std::to_string(magic_bytes) + ", expected " +
-                          std::to_string(prefix_bytes) + " + " + std::to_string(count) + " x " +
-                          std::to_string(sizeof(Record)) + " bytes, found " +
-                          std::to_string(bytes.size()) + " bytes)");
-    }
-    file.count = static_cast<std::size_t>(count);
-    return file;
-}
 
 }  // namespace
 
 std::vector<Ray> read_ray_file(const std::filesystem::path& path)
 {
-    const CheckedFile file = read_checked<RayRecord>(path, ray_magic, "ray");
+    const RecordFile file = detail::read_record_file(path, ray_magic, "ray", sizeof(RayRecord));
     std::vector<Ray> rays;
     rays.reserve(file.count);
     for (std::size_t i = 0; i < file.count; ++i) {
@@ -142,7 +64,7 @@ void write_ray_file(const std::filesystem::path& path, const std::vector<Ray>& r
 
 void write_ray_file(OutputFile& output, const std::vector<Ray>& rays)
 {
-    output.commit(encode<RayRecord>(ray_magic, rays.size(), [&](std::size_t i) {
+    output.commit(detail::encode_records<RayRecord>(ray_magic, rays.size(), [&](std::size_t i) {
         const Ray& r = rays[i];
         return RayRecord{{r.origin.x, r.origin.y, r.origin.z},
                          {r.direction.x, r.direction.y, r.direction.z}, r.t_min, r.t_max};
@@ -157,7 +79,7 @@ void write_hit_file(const std::filesystem::path& path, const std::vector<Hit>& h
 
 void write_hit_file(OutputFile& output, const std::vector<Hit>& hits)
 {
-    output.commit(encode<HitRecord>(hit_magic, hits.size(), [&](std::size_t i) {
+    output.commit(detail::encode_records<HitRecord>(hit_magic, hits.size(), [&](std::size_t i) {
         const Hit& h = hits[i];
         return HitRecord{h.triangle, h.t, h.u, h.v};
     }));
@@ -165,7 +87,7 @@ void write_hit_file(OutputFile& output, const std::vector<Hit>& hits)
 
 std::vector<Hit> read_hit_file(const std::filesystem::path& path)
 {
-    const CheckedFile file = read_checked<HitRecord>(path, hit_magic, "hit");
+    const RecordFile file = detail::read_record_file(path, hit_magic, "hit", sizeof(HitRecord));
     std::vector<Hit> hits;
     hits.reserve(file.count);
     for (std::size_t i = 0; i < file.count; ++i) {

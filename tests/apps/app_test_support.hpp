@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdlib>
@@ -22,6 +23,7 @@
 #include <system_error>
 #include <vector>
 
+#include "splitgrid/mesh.hpp"
 #include "support/scratch_dir.hpp"
 
 #include <gtest/gtest.h>
@@ -155,6 +157,36 @@ inline std::string describe(const ToolRun& run)
       << run.out << "--- stderr ---\n"
       << run.err;
     return s.str();
+}
+
+/// Expects a tool's documented refusal: exit code `code`, one line "error: ..." on stderr
+/// naming `named`, nothing on stdout, no file `output` and no temporary file (".NAME.tmp-...")
+/// left in `folder`.
+inline void expect_refused_leaving_nothing(const ToolRun& run, int code, const std::string& named,
+                                           const std::filesystem::path& output,
+                                           const std::filesystem::path& folder)
+{
+    EXPECT_EQ(run.exit_code, code) << describe(run);
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_EQ(run.err.rfind("error: ", 0), 0u) << run.err;
+    EXPECT_NE(run.err.find(named), std::string::npos) << "must name " << named << ":\n" << run.err;
+    EXPECT_EQ(run.out, "");
+    EXPECT_FALSE(std::filesystem::exists(output)) << output;
+    for (const auto& entry : std::filesystem::directory_iterator(folder))
+        EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos)
+            << "temporary file left behind: " << entry.path();
+}
+
+/// `mesh` as the text of an OBJ file (9 significant digits: every float exactly), for tests
+/// that give sg-build a mesh made in the test.
+inline std::string obj_of(const Mesh& mesh)
+{
+    std::ostringstream out;
+    out.precision(9);
+    for (const Vec3f& v : mesh.vertices) out << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n';
+    for (const Triangle& t : mesh.triangles)
+        out << "f " << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << '\n';
+    return out.str();
 }
 
 /// Path of a model in Debian's assimp-testmodels (a dependency installed by

@@ -23,7 +23,7 @@ namespace sg::test {
 namespace {
 
 const std::vector<std::string> all_tools = {SG_BUILD_EXE, SG_STATS_EXE, SG_TRACE_EXE,
-                                            SG_RAYS_EXE};
+                                            SG_RAYS_EXE, SG_POINTS_EXE};
 
 TEST(ToolsCli, HelpExitsZeroAndDocumentsExitCodes)
 {
@@ -59,6 +59,7 @@ TEST(ToolsCli, UnknownFlagIsUsageError)
         {SG_STATS_EXE, {"x.sg"}},
         {SG_TRACE_EXE, {"x.sg", "--rays", "r.bin", "--out", "h.bin"}},
         {SG_RAYS_EXE, {"text", "r.csv", "-o", "r.bin"}},
+        {SG_POINTS_EXE, {"x.sg", "--points", "p.csv", "-o", "o.bin", "--query", "occupancy"}},
     };
     for (const auto& [tool, required] : commands) {
         SCOPED_TRACE(tool);
@@ -211,6 +212,7 @@ std::vector<ToolLibraries> every_tool()
         {SG_STATS_EXE, "sg-stats", {}},
         {SG_TRACE_EXE, "sg-trace", {}},
         {SG_RAYS_EXE, "sg-rays", {}},
+        {SG_POINTS_EXE, "sg-points", {}},
 #ifdef SG_BENCH_HAS_EMBREE
         {SG_BENCH_EXE, "sg-bench", {"Embree"}},
 #else

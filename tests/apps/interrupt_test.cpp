@@ -185,6 +185,23 @@ TEST_P(Interrupt, SgTraceRemovesItsTemporaryFileWhileReadingTheSgFile)
               (std::vector<std::string>{"hits.bin", "rays.bin", "scene.sg"}));
 }
 
+TEST_P(Interrupt, SgPointsRemovesItsTemporaryFileWhileReadingTheSgFile)
+{
+    const fs::path sg = make_fifo(scratch_ / "scene.sg");
+    const fs::path points = scratch_ / "points.csv";
+    write_text(points, "not read");
+    const fs::path out = scratch_ / "inside.bin";
+    write_text(out, "earlier answers");
+    const ToolRun run = interrupt_when(SG_POINTS_EXE,
+                                       {sg.string(), "--points", points.string(), "-o",
+                                        out.string(), "--query", "occupancy"},
+                                       ".inside.bin.tmp-");
+    expect_interrupted(run, signal_number());
+    EXPECT_EQ(read_text(out), "earlier answers");
+    EXPECT_EQ(entries_but_runs(scratch_.path()),
+              (std::vector<std::string>{"inside.bin", "points.csv", "scene.sg"}));
+}
+
 TEST_P(Interrupt, SgRaysRemovesItsTemporaryFileWhileReadingItsInput)
 {
     const fs::path text = make_fifo(scratch_ / "rays.csv");

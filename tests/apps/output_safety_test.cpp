@@ -22,7 +22,8 @@ namespace fs = std::filesystem;
 /// Every tool that writes a file or folder.
 std::vector<std::string> writing_tools()
 {
-    std::vector<std::string> tools = {SG_BUILD_EXE, SG_TRACE_EXE, SG_RAYS_EXE, SG_BENCH_EXE};
+    std::vector<std::string> tools = {SG_BUILD_EXE, SG_TRACE_EXE, SG_RAYS_EXE, SG_POINTS_EXE,
+                                      SG_BENCH_EXE};
 #ifdef SG_RENDER_EXE
     tools.push_back(SG_RENDER_EXE);
     tools.push_back(SG_EXPORT_EXE);
@@ -119,6 +120,24 @@ TEST_F(OutputSafety, SgRaysRefusesToWriteOverItsInput)
                                        scratch_);
     expect_refused_over_input(over_text, text, text, text_bytes);
     expect_only(scratch_, {"part.stl", "part.sg", "rays.bin", "rays.csv"});
+}
+
+TEST_F(OutputSafety, SgPointsRefusesToWriteOverItsPointsOrItsSgFile)
+{
+    const fs::path points = scratch_ / "points.csv";
+    write_text(points, "0 0 0\n");
+    const std::string point_bytes = read_text(points);
+    const ToolRun over_points = run_tool(SG_POINTS_EXE,
+                                         {sg_.string(), "--points", points.string(), "--out",
+                                          points.string(), "--query", "occupancy"},
+                                         scratch_);
+    expect_refused_over_input(over_points, points, points, point_bytes);
+    const ToolRun over_sg = run_tool(SG_POINTS_EXE,
+                                     {sg_.string(), "--points", points.string(), "-o",
+                                      sg_.string(), "--query", "occupancy"},
+                                     scratch_);
+    expect_refused_over_input(over_sg, sg_, sg_, sg_bytes_);
+    expect_only(scratch_, {"part.stl", "part.sg", "rays.bin", "points.csv"});
 }
 
 #ifdef SG_RENDER_EXE
@@ -233,6 +252,8 @@ TEST(OutputSafetyDash, DashIsRefusedByEveryToolAndCreatesNothing)
         std::vector<std::string> args = {mesh.string(), "-o", "-"};
         if (tool == SG_TRACE_EXE) args = {"a.sg", "--rays", "r.bin", "-o", "-"};
         if (tool == SG_RAYS_EXE) args = {"random", "a.sg", "-o", "-"};
+        if (tool == SG_POINTS_EXE) args = {"a.sg", "--points", "p.bin", "-o", "-", "--query",
+                                           "occupancy"};
         const ToolRun run = run_tool(tool, args, scratch, scratch.path());
         EXPECT_EQ(run.exit_code, 1) << describe(run);
         EXPECT_EQ(line_count(run.err), 1u) << run.err;
@@ -273,6 +294,10 @@ TEST(OutputSafetyEarly, AFolderThatCannotBeWrittenIsRefusedBeforeTheInputIsOpene
          no_write / "bench"},
         {SG_RAYS_EXE, {"random", missing, "-o", (no_write / "r.bin").string()},
          no_write / "r.bin"},
+        {SG_POINTS_EXE,
+         {missing, "--points", missing, "-o", (no_write / "o.bin").string(), "--query",
+          "occupancy"},
+         no_write / "o.bin"},
     };
 #ifdef SG_RENDER_EXE
     cases.push_back({SG_RENDER_EXE, {missing, "-o", (no_write / "x.png").string()},

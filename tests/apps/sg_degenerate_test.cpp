@@ -29,16 +29,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string obj_of(const Mesh& mesh)
-{
-    std::ostringstream out;
-    out.precision(9);
-    for (const Vec3f& v : mesh.vertices) out << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n';
-    for (const Triangle& t : mesh.triangles)
-        out << "f " << t.v[0] + 1 << ' ' << t.v[1] + 1 << ' ' << t.v[2] + 1 << '\n';
-    return out.str();
-}
-
 // Slivers (height 1e-4 of their length) or needles (two corners 1e-4 apart), lengths 1 to 5.
 Mesh thin(std::uint32_t seed, bool needles)
 {

@@ -44,11 +44,6 @@ void expect_same_ray(const Ray& expected, const Ray& actual)
 
 Vec3f vec_of(const json& v) { return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()}; }
 
-std::size_t line_count(const std::string& text)
-{
-    return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
-}
-
 class SgRays : public ::testing::Test {
 protected:
     void SetUp() override
@@ -69,15 +64,7 @@ protected:
     /// on stdout, no ray file and no temporary file.
     void expect_refused(const ToolRun& run, int code, const std::string& named)
     {
-        EXPECT_EQ(run.exit_code, code) << describe(run);
-        EXPECT_EQ(line_count(run.err), 1u) << run.err;
-        EXPECT_EQ(run.err.rfind("error: ", 0), 0u) << run.err;
-        EXPECT_NE(run.err.find(named), std::string::npos) << "must name " << named << ":\n"
-                                                          << run.err;
-        EXPECT_EQ(run.out, "");
-        EXPECT_FALSE(fs::exists(out_));
-        for (const auto& entry : fs::directory_iterator(scratch_.path()))
-            EXPECT_NE(entry.path().extension(), ".tmp") << "temporary file left behind";
+        expect_refused_leaving_nothing(run, code, named, out_, scratch_.path());
     }
 
     ScratchDir scratch_;

@@ -39,19 +39,11 @@ SgContents some_contents(std::size_t triangles)
     return c;
 }
 
+/// The IoError message of a write, or a test failure.
 template <class F>
 std::string io_error_of(F write)
 {
-    try {
-        write();
-    } catch (const IoError& e) {
-        return e.what();
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "wrong exception type: " << e.what();
-        return {};
-    }
-    ADD_FAILURE() << "the write succeeded";
-    return {};
+    return test::error_of<IoError>(write);
 }
 
 TEST(AtomicWrite, LeavesOnlyTheTargetBehind)

@@ -7,6 +7,7 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -48,6 +49,30 @@ template <class T>
 void store_le(std::vector<std::uint8_t>& bytes, std::size_t offset, T value)
 {
     std::memcpy(bytes.data() + offset, &value, sizeof value);
+}
+
+/// The first `size` bytes of `bytes` (a truncated copy of a file).
+[[nodiscard]] inline std::vector<std::uint8_t> prefix_of(const std::vector<std::uint8_t>& bytes,
+                                                         std::size_t size)
+{
+    return {bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(size)};
+}
+
+/// The message of the exception of type E that `read` throws; a test failure (and "") when it
+/// throws another type or nothing.
+template <class E, class F>
+[[nodiscard]] std::string error_of(F read)
+{
+    try {
+        read();
+    } catch (const E& e) {
+        return e.what();
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << "wrong exception type: " << e.what();
+        return {};
+    }
+    ADD_FAILURE() << "accepted";
+    return {};
 }
 
 }  // namespace sg::test

@@ -18,6 +18,7 @@
 namespace sg {
 namespace {
 
+using test::error_of;
 using test::load_le;
 using test::store_le;
 
@@ -44,20 +45,6 @@ std::vector<Ray> some_rays()
     return rays;
 }
 
-template <class E, class F>
-std::string error_of(F read)
-{
-    try {
-        read();
-    } catch (const E& e) {
-        return e.what();
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "wrong exception type: " << e.what();
-        return {};
-    }
-    ADD_FAILURE() << "accepted";
-    return {};
-}
 
 TEST(RayFile, RoundTripKeepsEveryBit)
 {
