@@ -165,7 +165,7 @@ void bind_grid(py::module_& m)
 
     m.def(
         "build",
-        [](const py::handle& vertices, const py::handle& triangles, const std::string& preset,
+        [](const py::object& vertices, const py::object& triangles, const std::string& preset,
            const py::object& threads, std::string source_name, const py::kwargs& params) {
             const BuildConfig config = build_config_from(preset, threads, params);
             return build_grid(mesh_from_arrays(vertices, triangles), config,

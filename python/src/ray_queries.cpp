@@ -14,8 +14,8 @@ namespace {
 
 constexpr float infinity = std::numeric_limits<float>::infinity();
 
-py::dict cast_rays(const GridObject& grid, const py::handle& rays, const py::handle& tnear,
-                   const py::handle& tfar, const py::object& threads)
+py::dict cast_rays(const GridObject& grid, const py::object& rays, const py::object& tnear,
+                   const py::object& tfar, const py::object& threads)
 {
     const RayBatch batch(rays, tnear, tfar);
     const int thread_limit = thread_count(threads);
@@ -59,8 +59,8 @@ py::dict cast_rays(const GridObject& grid, const py::handle& rays, const py::han
     return result;
 }
 
-py::array_t<bool> test_occlusions(const GridObject& grid, const py::handle& rays,
-                                  const py::handle& tnear, const py::handle& tfar,
+py::array_t<bool> test_occlusions(const GridObject& grid, const py::object& rays,
+                                  const py::object& tnear, const py::object& tfar,
                                   const py::object& threads)
 {
     const RayBatch batch(rays, tnear, tfar);
