@@ -7,15 +7,17 @@
 namespace sg::python {
 namespace {
 
-// Owned by the module object (attributes), so they live as long as the module; the pointers
-// here are borrowed.
+// The classes are owned by the module (its attributes), so they live as long as it does; the
+// pointers here are borrowed. No static py::object: its destructor would run after the
+// interpreter has finalised.
+PyObject* format_error = nullptr;
 PyObject* invalid_ray_warning = nullptr;
 PyObject* mesh_import_warning = nullptr;
 
-PyObject* new_warning_class(py::module_& m, const char* name, const char* doc)
+PyObject* new_class(py::module_& m, const char* name, PyObject* base, const char* doc)
 {
     const std::string qualified = std::string("splitgrid.") + name;
-    PyObject* cls = PyErr_NewExceptionWithDoc(qualified.c_str(), doc, PyExc_UserWarning, nullptr);
+    PyObject* cls = PyErr_NewExceptionWithDoc(qualified.c_str(), doc, base, nullptr);
     if (cls == nullptr) throw py::error_already_set();
     m.add_object(name, py::reinterpret_steal<py::object>(cls));
     return cls;
@@ -30,18 +32,18 @@ void warn(PyObject* category, const std::string& message)
 
 void bind_errors(py::module_& m)
 {
-    static py::exception<FormatError> format_error(m, "FormatError", PyExc_ValueError);
-    format_error.doc() =
+    format_error = new_class(
+        m, "FormatError", PyExc_ValueError,
         "A .sg file whose bytes do not follow the format: bad magic, truncation, checksum "
         "mismatch, an index out of range. The message names the file and, where known, the "
-        "byte offset. A ValueError.";
-    invalid_ray_warning = new_warning_class(
-        m, "InvalidRayWarning",
+        "byte offset. A ValueError.");
+    invalid_ray_warning = new_class(
+        m, "InvalidRayWarning", PyExc_UserWarning,
         "Some rays of a query were invalid (NaN or infinite origin or direction, zero "
         "direction, NaN or infinite tnear, NaN tfar, or tnear > tfar) and were answered as "
         "misses. The message counts them and names the first.");
-    mesh_import_warning = new_warning_class(
-        m, "MeshImportWarning",
+    mesh_import_warning = new_class(
+        m, "MeshImportWarning", PyExc_UserWarning,
         "import_mesh() skipped or dropped part of a file (points, lines, zero-area or "
         "non-finite triangles), or the file looks misread. One warning per finding, as "
         "sg-build logs them.");
@@ -50,7 +52,7 @@ void bind_errors(py::module_& m)
         try {
             if (error) std::rethrow_exception(error);
         } catch (const FormatError& e) {
-            PyErr_SetString(format_error.ptr(), e.what());
+            PyErr_SetString(format_error, e.what());
         } catch (const IoError& e) {
             PyErr_SetString(PyExc_OSError, e.what());
         } catch (const InputError& e) {
