@@ -113,8 +113,6 @@ RayBatch::RayBatch(const py::handle& rays, const py::handle& tnear, const py::ha
 
 void RayBatch::fill(std::size_t begin, std::size_t end, Ray* out) const noexcept
 {
-    std::size_t invalid = 0;
-    std::size_t first = SIZE_MAX;
     for (std::size_t i = begin; i < end; ++i) {
         float v[6];
         rays_.read(i, v);
@@ -123,13 +121,12 @@ void RayBatch::fill(std::size_t begin, std::size_t end, Ray* out) const noexcept
         ray.direction = {v[3], v[4], v[5]};
         ray.t_min = tnear_[i];
         ray.t_max = tfar_[i];
-        if (!is_valid(ray)) {
-            first = std::min(first, i);
-            ++invalid;
-        }
     }
-    if (invalid == 0) return;
-    invalid_count_.fetch_add(invalid, std::memory_order_relaxed);
+}
+
+void RayBatch::add_invalid(std::size_t count, std::size_t first) const noexcept
+{
+    invalid_count_.fetch_add(count, std::memory_order_relaxed);
     std::size_t seen = first_invalid_.load(std::memory_order_relaxed);
     while (first < seen &&
            !first_invalid_.compare_exchange_weak(seen, first, std::memory_order_relaxed)) {

@@ -1,10 +1,12 @@
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -22,8 +24,10 @@ namespace sg::python {
 namespace py = pybind11;
 
 /// Records a chunk function is handed at most at once: its stack buffers in the kernels'
-/// layouts (sg::Ray, sg::Hit) hold this many, so no query makes a second full-size copy.
-inline constexpr std::size_t chunk_records = 256;
+/// layouts (sg::Ray, sg::Hit) hold this many, so no query makes a second full-size copy. Few
+/// enough that what the query read for a chunk's hits (the hit triangles' corners, for the
+/// normals) is still in the L1 cache when the chunk's results are written.
+inline constexpr std::size_t chunk_records = 16;
 
 /// The `threads` argument of every query and build: None or 0 for all hardware threads (as
 /// Open3D's nthreads=0), else a count in [1, 1024]. Returns 0 for "all". Throws TypeError or
@@ -105,8 +109,8 @@ private:
 };
 
 /// The rays of a ray query with their tnear and tfar: `rays` (..., 6), `tnear`, `tfar`
-/// (numbers or arrays of the rays' leading shape). Counts the invalid rays (sg::is_valid) that
-/// fill() meets; every query answers them as misses.
+/// (numbers or arrays of the rays' leading shape). Counts the invalid rays (sg::is_valid), which
+/// every query answers as misses, for one warning after the query.
 class RayBatch {
 public:
     RayBatch(const py::handle& rays, const py::handle& tnear, const py::handle& tfar);
@@ -118,11 +122,29 @@ public:
     /// Thread-safe: chunks run at once on several threads.
     void fill(std::size_t begin, std::size_t end, Ray* out) const noexcept;
 
+    /// After a chunk's query: counts the invalid rays among `rays` (rays begin, begin + 1, ...
+    /// as fill() made them) for which `missed(k)` holds. An invalid ray is always a miss, so
+    /// only the misses are looked at. Thread-safe.
+    template <class Missed>
+    void count_invalid(std::size_t begin, std::span<const Ray> rays, Missed missed) const noexcept
+    {
+        std::size_t invalid = 0;
+        std::size_t first = SIZE_MAX;
+        for (std::size_t k = 0; k < rays.size(); ++k) {
+            if (!missed(k) || is_valid(rays[k])) continue;
+            first = std::min(first, begin + k);
+            ++invalid;
+        }
+        if (invalid != 0) add_invalid(invalid, first);
+    }
+
     /// After the query, with the GIL: one splitgrid.InvalidRayWarning counting the invalid
     /// rays and naming the first, if there were any.
     void warn_about_invalid_rays() const;
 
 private:
+    void add_invalid(std::size_t count, std::size_t first) const noexcept;
+
     RecordArray rays_;
     PerRecordReal tnear_;
     PerRecordReal tfar_;

@@ -35,6 +35,8 @@ py::dict cast_rays(const GridObject& grid, const py::object& rays, const py::obj
         const std::size_t n = end - begin;
         batch.fill(begin, end, chunk_rays);
         intersect(grid.grid(), mesh, std::span<const Ray>(chunk_rays, n), std::span<Hit>(hits, n));
+        batch.count_invalid(begin, {chunk_rays, n},
+                            [&](std::size_t k) { return !hits[k].is_hit(); });
         for (std::size_t k = 0; k < n; ++k) {
             const std::size_t i = begin + k;
             const Hit& hit = hits[k];
@@ -77,6 +79,8 @@ py::array_t<bool> test_occlusions(const GridObject& grid, const py::object& rays
         batch.fill(begin, end, chunk_rays);
         occluded(grid.grid(), mesh, std::span<const Ray>(chunk_rays, n),
                  std::span<std::uint8_t>(out + begin, n));
+        batch.count_invalid(begin, {chunk_rays, n},
+                            [&](std::size_t k) { return out[begin + k] == 0; });
     });
     batch.warn_about_invalid_rays();
     return occluded_out;
