@@ -48,7 +48,7 @@ def _ray_arguments(rays, tnear, tfar):
     rays = da.asarray(rays)
     if rays.ndim < 1 or rays.shape[-1] != 6:
         raise ValueError(f"rays: expected an array of shape (..., 6), got shape {rays.shape}")
-    if rays.dtype not in (np.float32, np.float64):
+    if rays.dtype.kind != "f" or rays.dtype.itemsize not in (4, 8):
         raise TypeError(f"rays: dtype {rays.dtype} is not supported; give float32 or float64")
     # A block must hold whole rays: the last axis in one chunk.
     if len(rays.chunks[-1]) != 1:
