@@ -3,12 +3,16 @@
 # builds the project in build/ (Release, Ninja). Safe to run again: a second run installs
 # nothing and rebuilds only what changed.
 #
-# Usage: scripts/setup.sh [--werror] [--with-paraview]
+# Usage: scripts/setup.sh [--werror] [--with-paraview] [--with-python-tests]
 #   --werror          treat compiler warnings as errors (also on when the environment has CI=true)
 #   --with-paraview   also install ParaView and a virtual X server for the real-client test of
 #                     sg-export (tests/paraview/), and unpack ParaView's Python modules into
 #                     build/paraview-python (scripts/test.sh passes this). With CI=true the
 #                     configure step then fails if that test cannot be registered.
+#   --with-python-tests  also install what the Python package's tests use (pytest, hypothesis,
+#                     Dask, Open3D; scripts/test.sh passes this). The package itself (python/,
+#                     pybind11 and numpy) is always built; with CI=true the configure step fails
+#                     if it or its tests cannot be.
 # Runs apt-get as root, or through sudo when not root.
 set -euo pipefail
 
@@ -18,10 +22,12 @@ build_dir="${root_dir}/build"
 werror=OFF
 if [[ "${CI:-}" == "true" ]]; then werror=ON; fi
 with_paraview=false
+with_python_tests=false
 for arg in "$@"; do
     case "${arg}" in
         --werror) werror=ON ;;
         --with-paraview) with_paraview=true ;;
+        --with-python-tests) with_python_tests=true ;;
         *) echo "setup.sh: unknown argument: ${arg}" >&2; exit 1 ;;
     esac
 done
@@ -33,11 +39,17 @@ packages=(
     libtbb-dev libgtest-dev libboost-dev
     libembree-dev libvtk9-dev
     python3-matplotlib python3-numpy  # charts (sg-bench), the numpy lines of docs/FORMAT.md
+    pybind11-dev python3-dev  # the Python package (python/, docs/PYTHON.md)
     clang-14 libclang-rt-14-dev  # libFuzzer for tests/fuzz (scripts/test.sh)
 )
 if [[ "${with_paraview}" == true ]]; then
     # pvbatch, and Xvfb to give it a display: Debian's ParaView renders only through X.
     packages+=(paraview xvfb xauth)
+fi
+if [[ "${with_python_tests}" == true ]]; then
+    # The Python package's tests: pytest and hypothesis; Dask for splitgrid.dask; Open3D, the
+    # interface the package follows (tests/python/).
+    packages+=(python3-pytest python3-hypothesis python3-dask python3-distributed python3-open3d)
 fi
 
 missing=()
@@ -88,6 +100,10 @@ if [[ "${with_paraview}" == true ]]; then
     if [[ "${CI:-}" == "true" ]]; then require_paraview=ON; fi
 fi
 cmake_args+=(-DSG_REQUIRE_PARAVIEW="${require_paraview}")
+# CI: the Python package and its tests may not silently vanish (python/CMakeLists.txt).
+require_python=OFF
+if [[ "${CI:-}" == "true" ]]; then require_python=ON; fi
+cmake_args+=(-DSG_REQUIRE_PYTHON="${require_python}")
 
 # Options are passed every time so that a CI build never inherits a cached OFF.
 cmake -S "${root_dir}" -B "${build_dir}" -G Ninja -DCMAKE_BUILD_TYPE=Release "${cmake_args[@]}"

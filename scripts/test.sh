@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Sets up and builds splitgrid (scripts/setup.sh, with ParaView for the real-client test of
 # sg-export), then runs the test suite through ctest in three build trees (docs/HARDENING.md):
-#   build/        Release, g++: every test, the ParaView test included.
+#   build/        Release, g++: every test, the ParaView test and the Python package's
+#                 (label `python`) included.
 #   build-asan/   g++ with AddressSanitizer, LeakSanitizer and UndefinedBehaviorSanitizer
-#                 (SG_SANITIZE): every test except those labelled `asan_skip`.
+#                 (SG_SANITIZE): every test except those labelled `asan_skip`; the Python
+#                 package is not built there (python/CMakeLists.txt), so its tests are absent.
 #   build-fuzz/   clang 14 with libFuzzer (SG_FUZZ): each fuzz target for SG_FUZZ_SECONDS
 #                 seconds (default 45), on the generated seeds and the kept crash inputs.
 # Tests that need ../shared/meshes skip when it is absent. Arguments are passed on to
@@ -19,7 +21,7 @@ for arg in "$@"; do
     if [[ "${arg}" == "--werror" ]]; then werror=ON; fi
 done
 
-bash "${root_dir}/scripts/setup.sh" --with-paraview "$@"
+bash "${root_dir}/scripts/setup.sh" --with-paraview --with-python-tests "$@"
 
 if [[ " ${trees} " == *" release "* ]]; then
     ctest --test-dir "${root_dir}/build" --output-on-failure -j2

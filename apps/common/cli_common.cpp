@@ -399,11 +399,6 @@ unsigned threads_that_run(unsigned threads)
                         : static_cast<unsigned>(std::max(1, tbb::info::default_concurrency()));
 }
 
-double per_triangle(std::size_t bytes, std::size_t triangles) noexcept
-{
-    return triangles == 0 ? 0.0 : static_cast<double>(bytes) / static_cast<double>(triangles);
-}
-
 std::string human_bytes(std::size_t bytes)
 {
     constexpr const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
@@ -435,15 +430,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) noexcept
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-Json to_json(const BuildConfig& config)
-{
-    Json j;
-    for (const BuildConfigField& field : build_config_fields)
-        std::visit([&](auto member) { j[std::string(field.name)] = config.*member; },
-                   field.member);
-    return j;
-}
-
 std::string to_text(const BuildConfig& config)
 {
     std::string text;
@@ -452,50 +438,6 @@ std::string to_text(const BuildConfig& config)
         text += fmt::format("{} {}", field.name, field_value_text(config, field));
     }
     return text;
-}
-
-Json to_json(const GridStats& stats)
-{
-    Json j;
-    j["triangle_count"] = stats.triangle_count;
-    j["node_count"] = stats.node_count;
-    j["cell_count"] = stats.cell_count;
-    j["empty_cells"] = stats.empty_cells;
-    j["leaf_cells"] = stats.leaf_cells;
-    j["inner_cells"] = stats.inner_cells;
-    j["reference_count"] = stats.reference_count;
-    j["referenced_triangles"] = stats.referenced_triangles;
-    j["max_depth"] = stats.max_depth;
-    j["mean_leaf_depth"] = stats.mean_leaf_depth;
-    j["nodes_per_depth"] = stats.nodes_per_depth;
-    j["mean_resolution_per_depth"] = stats.mean_resolution_per_depth;
-    j["resolution_histogram"] = stats.resolution_histogram;
-    j["leaf_size_min"] = stats.leaf_size_min;
-    j["leaf_size_max"] = stats.leaf_size_max;
-    j["leaf_size_mean"] = stats.leaf_size_mean;
-    j["leaf_size_histogram"] = stats.leaf_size_histogram;
-    j["empty_cell_fraction"] = stats.empty_cell_fraction;
-    j["duplication_factor"] = stats.duplication_factor;
-    j["node_bytes"] = stats.node_bytes;
-    j["cell_bytes"] = stats.cell_bytes;
-    j["reference_bytes"] = stats.reference_bytes;
-    j["structure_bytes"] = stats.structure_bytes;
-    j["structure_bytes_per_triangle"] = stats.structure_bytes_per_triangle;
-    j["sah_cost"] = stats.sah_cost;
-    j["cost_model"] = {{"node_cost", stats.cost_model.node_cost},
-                       {"cell_cost", stats.cost_model.cell_cost},
-                       {"triangle_cost", stats.cost_model.triangle_cost}};
-    return j;
-}
-
-Json to_json(const EdgeReport& edges)
-{
-    Json j;
-    j["edges"] = edges.edges;
-    j["open_edges"] = edges.open_edges;
-    j["nonmanifold_edges"] = edges.nonmanifold_edges;
-    j["closed"] = edges.is_closed();
-    return j;
 }
 
 }  // namespace sg::apps

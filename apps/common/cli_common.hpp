@@ -12,7 +12,7 @@
 #include "output_paths.hpp"
 #include "splitgrid/build_config.hpp"
 #include "splitgrid/formats/library_versions.hpp"
-#include "splitgrid/mesh_edges.hpp"
+#include "splitgrid/formats/stats_json.hpp"
 #include "splitgrid/stats.hpp"
 
 #include <CLI/CLI.hpp>
@@ -40,13 +40,12 @@ enum class ExitCode : int {
     // 130 and 143: interrupted by SIGINT or SIGTERM (interrupt.hpp).
 };
 
-/// JSON type of all tool output: keys stay in insertion order, so the output reads in the
-/// order docs/STATS_JSON.md lists it.
-using Json = nlohmann::ordered_json;
-
-/// The `schema_version` every JSON document printed by a tool carries (docs/STATS_JSON.md).
-/// Bumped only when a key is removed or changes meaning; adding keys keeps the version.
-inline constexpr int json_schema_version = 1;
+// The JSON documents and their helpers live in formats (stats_json.hpp), which the Python
+// package shares.
+using sg::Json;
+using sg::json_schema_version;
+using sg::per_triangle;
+using sg::to_json;
 
 /// Verbosity chosen on the command line (-v / -q).
 struct LogOptions {
@@ -165,9 +164,6 @@ void add_build_config_flags(CLI::App& app, BuildConfig& config, bool with_thread
 /// The number of threads a run with `threads` (threads_to_use's result) really uses.
 [[nodiscard]] unsigned threads_that_run(unsigned threads);
 
-/// `bytes` divided by `triangles`, or 0 when there are no triangles.
-[[nodiscard]] double per_triangle(std::size_t bytes, std::size_t triangles) noexcept;
-
 /// "1.23 MiB" style size, for human-readable summaries.
 [[nodiscard]] std::string human_bytes(std::size_t bytes);
 
@@ -192,19 +188,8 @@ private:
 /// Seconds elapsed since `start` on the steady clock.
 [[nodiscard]] double seconds_since(std::chrono::steady_clock::time_point start) noexcept;
 
-/// BuildConfig as a JSON object, one key per entry of build_config_fields.
-[[nodiscard]] Json to_json(const BuildConfig& config);
-
 /// BuildConfig as one line of text, "resolution_min 2, resolution_max 16, ..., stop_by_cost
 /// on, ...", one item per entry of build_config_fields.
 [[nodiscard]] std::string to_text(const BuildConfig& config);
-
-/// GridStats as a JSON object, one key per field with the field's name (histograms as
-/// arrays, cost_model as an object). docs/STATS_JSON.md documents every key.
-[[nodiscard]] Json to_json(const GridStats& stats);
-
-/// EdgeReport as a JSON object: edges, open_edges, nonmanifold_edges, closed
-/// (docs/STATS_JSON.md; sg-stats and sg-points print it).
-[[nodiscard]] Json to_json(const EdgeReport& edges);
 
 }  // namespace sg::apps

@@ -45,16 +45,8 @@ void log_import_report(const fs::path& path, const sg::ImportReport& report,
     spdlog::debug("{}: {} meshes, {} faces, {} triangles read, {} kept, {} vertices",
                   path.string(), report.meshes, report.faces_read, report.triangles_read,
                   triangles_kept, report.vertices);
-    for (const std::string& warning : report.warnings) spdlog::warn("{}", warning);
-    if (report.points_skipped != 0 || report.lines_skipped != 0)
-        spdlog::warn("{}: skipped {} point and {} line primitives (not triangles)",
-                     path.string(), report.points_skipped, report.lines_skipped);
-    if (report.nonfinite_dropped != 0)
-        spdlog::warn("{}: dropped {} triangles with NaN or infinite corners", path.string(),
-                     report.nonfinite_dropped);
-    if (report.degenerate_dropped != 0)
-        spdlog::warn("{}: dropped {} zero-area triangles", path.string(),
-                     report.degenerate_dropped);
+    for (const std::string& warning : sg::import_warnings(path, report))
+        spdlog::warn("{}", warning);
 }
 
 /// A freshly built grid that breaks its invariants is a bug in the builder, not a bad input

@@ -10,9 +10,9 @@
 
 #include "cli_common.hpp"
 #include "splitgrid/formats/sg_file.hpp"
+#include "splitgrid/formats/stats_json.hpp"
 #include "splitgrid/mesh_edges.hpp"
 #include "splitgrid/stats.hpp"
-#include "splitgrid/version.hpp"
 
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
@@ -20,7 +20,6 @@
 namespace {
 
 namespace fs = std::filesystem;
-using sg::apps::Json;
 
 struct Options {
     fs::path file;
@@ -51,41 +50,11 @@ std::string histogram_text(const std::vector<std::size_t>& bins)
     return text.empty() ? "-" : text;
 }
 
-Json vec_json(sg::Vec3f v) { return Json::array({v.x, v.y, v.z}); }
-
 void print_json(const Options& options, const Report& r)
 {
-    const sg::GridStats& s = r.stats;
-    const std::size_t triangles = r.contents.mesh.triangles.size();
-    Json sections = Json::array();
-    for (const sg::SgSectionInfo& section : r.info.sections)
-        sections.push_back({{"name", section.name},
-                            {"offset", section.offset},
-                            {"bytes", section.bytes},
-                            {"count", section.count},
-                            {"crc32", section.crc32}});
-    Json j;
-    j["schema_version"] = sg::apps::json_schema_version;
-    j["splitgrid_version"] = sg::version_string;
-    j["file"] = {{"path", options.file.string()},
-                 {"format_version", r.info.format_version},
-                 {"bytes", r.info.file_bytes},
-                 {"sections", sections}};
-    j["source_name"] = r.contents.source_name;
-    j["build_config"] = sg::apps::to_json(r.contents.grid.config);
-    j["mesh"] = {{"vertex_count", r.contents.mesh.vertices.size()},
-                 {"triangle_count", triangles},
-                 {"bytes", r.mesh_bytes}};
-    j["edges"] = sg::apps::to_json(r.edges);
-    j["root_box"] = {{"lower", vec_json(r.contents.grid.root_box.lower)},
-                     {"upper", vec_json(r.contents.grid.root_box.upper)}};
-    j["grid"] = sg::apps::to_json(s);
-    j["bytes_per_triangle"] = {
-        {"structure", sg::apps::per_triangle(s.structure_bytes, triangles)},
-        {"structure_and_mesh", sg::apps::per_triangle(s.structure_bytes + r.mesh_bytes, triangles)},
-        {"file", sg::apps::per_triangle(r.info.file_bytes, triangles)}};
-    j["coverage_checked"] = options.coverage;
-    std::cout << j.dump(2) << '\n';
+    const sg::SgFileFacts file{options.file.string(), r.info};
+    std::cout << sg::sg_stats_json(r.contents, r.stats, r.edges, &file, options.coverage).dump(2)
+              << '\n';
 }
 
 void print_text(const Options& options, const Report& r)
@@ -171,8 +140,7 @@ void stats(const Options& options)
     report.info = sg::read_sg_info(options.file);
     report.stats = sg::compute_stats(report.contents.grid);
     report.edges = sg::edge_report(report.contents.mesh.view());
-    report.mesh_bytes = report.contents.mesh.vertices.size() * sizeof(sg::Vec3f) +
-                        report.contents.mesh.triangles.size() * sizeof(sg::Triangle);
+    report.mesh_bytes = sg::mesh_memory_bytes(report.contents.mesh.view());
     spdlog::debug("{}: read and checked{}", options.file.string(),
                   options.coverage ? " (with coverage)" : "");
     if (options.json)

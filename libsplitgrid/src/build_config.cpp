@@ -47,7 +47,50 @@ void check_field_range(const BuildConfig& config, const BuildConfigField& field)
     }
 }
 
+/// Whether `value` lies in the field's range, checked in double precision so that values no
+/// field type can hold (-1 for a count, 1e300 for a real) are refused like any other.
+void check_value_range(const BuildConfigField& field, double value)
+{
+    if (field.is_count()) {
+        // Bounds as integers, so that the message prints 1048576 rather than 1.04858e+06; the
+        // value as an integer too when it is one.
+        if (value == std::floor(value) && std::abs(value) < 9e15)
+            detail::check_config_range("BuildConfig", std::string(field.name).c_str(),
+                                       static_cast<std::int64_t>(value),
+                                       static_cast<std::int64_t>(field.low),
+                                       static_cast<std::int64_t>(field.high), field.low_open);
+        else
+            detail::check_config_range("BuildConfig", std::string(field.name).c_str(), value,
+                                       static_cast<std::uint32_t>(field.low),
+                                       static_cast<std::uint32_t>(field.high), field.low_open);
+        return;
+    }
+    if (!std::isfinite(value))
+        throw ConfigError(field_label(field.name) + " must be a finite number");
+    detail::check_config_range("BuildConfig", std::string(field.name).c_str(), value, field.low,
+                               field.high, field.low_open);
+}
+
 }  // namespace
+
+void set_build_config_field(BuildConfig& config, const BuildConfigField& field, double value)
+{
+    if (const auto* switched = std::get_if<BuildConfigField::SwitchMember>(&field.member)) {
+        config.**switched = value != 0.0;
+        return;
+    }
+    check_value_range(field, value);
+    if (const auto* count = std::get_if<BuildConfigField::CountMember>(&field.member)) {
+        if (value != std::floor(value)) {
+            std::ostringstream text;
+            text << field_label(field.name) << " = " << value << " is not a whole number";
+            throw ConfigError(text.str());
+        }
+        config.**count = static_cast<std::uint32_t>(value);
+    } else if (const auto* real = std::get_if<BuildConfigField::RealMember>(&field.member)) {
+        config.**real = value;
+    }
+}
 
 void validate(const BuildConfig& config)
 {

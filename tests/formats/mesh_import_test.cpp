@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -216,6 +217,22 @@ TEST(MeshImport, NanInfiniteAndDegenerateTrianglesAreDroppedAndCounted)
     expect_bounds(m.mesh, {0, 0, 0}, {1, 1, 1});
     check_mesh(m.mesh.view());
     for (const Vec3f& v : m.mesh.vertices) EXPECT_TRUE(is_finite(v));
+}
+
+TEST(MeshImport, WarningsNameTheFileAndEveryCountThatIsNotZero)
+{
+    // The counts of the comment at the top of nan_and_degenerate.obj.
+    const auto path = data / "nan_and_degenerate.obj";
+    const ImportedMesh m = import_mesh(path);
+    const std::string name = path.string();
+    EXPECT_EQ(import_warnings(path, m.report),
+              (std::vector<std::string>{
+                  name + ": skipped 1 point and 1 line primitives (not triangles)",
+                  name + ": dropped 2 triangles with NaN or infinite corners",
+                  name + ": dropped 1 zero-area triangles"}));
+    ImportReport clean;
+    clean.warnings = {"the report's own"};
+    EXPECT_EQ(import_warnings(path, clean), clean.warnings);
 }
 
 TEST(MeshImport, MissingFileOrFolderIsAnIoError)

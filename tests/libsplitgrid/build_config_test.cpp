@@ -6,6 +6,7 @@
 #include <limits>
 #include <set>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <variant>
 
@@ -132,6 +133,51 @@ TEST(BuildConfigFields, SwitchesAreTheFourBooleans)
         if (field.is_switch()) switches.insert(std::string(field.name));
     EXPECT_EQ(switches, (std::set<std::string>{"stop_by_cost", "bounding_planes", "bounding_nodes",
                                                "clip_triangles"}));
+}
+
+/// The message of set_build_config_field's refusal, or "" if it sets the field.
+std::string set_refusal(BuildConfig& config, std::string_view name, double value)
+{
+    try {
+        set_build_config_field(config, *find_build_config_field(name), value);
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return {};
+}
+
+TEST(SetBuildConfigField, SetsInRangeValuesAndRefusesOthersWithValidatesMessage)
+{
+    BuildConfig c;
+    EXPECT_EQ(set_refusal(c, "leaf_size", 5), "");
+    EXPECT_EQ(c.leaf_size, 5u);
+    EXPECT_EQ(set_refusal(c, "resolution_sigma", 12.5), "");
+    EXPECT_EQ(c.resolution_sigma, 12.5);
+    EXPECT_EQ(set_refusal(c, "clip_triangles", 0), "");
+    EXPECT_FALSE(c.clip_triangles);
+    EXPECT_EQ(set_refusal(c, "clip_triangles", 1), "");
+    EXPECT_TRUE(c.clip_triangles);
+
+    // The same words as validate(), also for values a uint32 field could not hold.
+    BuildConfig in_field;
+    in_field.leaf_size = 0;
+    EXPECT_EQ(set_refusal(c, "leaf_size", 0), refusal(in_field));
+    EXPECT_EQ(set_refusal(c, "leaf_size", -1),
+              "BuildConfig.leaf_size = -1 is out of range [1, 1048576]");
+    EXPECT_EQ(set_refusal(c, "max_depth", 4294967296.0),
+              "BuildConfig.max_depth = 4294967296 is out of range [0, 64]");
+    EXPECT_EQ(set_refusal(c, "leaf_size", 2.5),
+              "BuildConfig.leaf_size = 2.5 is not a whole number");
+    EXPECT_EQ(set_refusal(c, "resolution_sigma", 0),
+              "BuildConfig.resolution_sigma = 0 is out of range (0, 1e+09]");
+    EXPECT_EQ(set_refusal(c, "min_cell_width", std::numeric_limits<double>::quiet_NaN()),
+              "BuildConfig.min_cell_width must be a finite number");
+    EXPECT_NE(set_refusal(c, "threads", std::numeric_limits<double>::quiet_NaN()), "");
+    EXPECT_EQ(c.leaf_size, 5u) << "a refused value leaves the field as it was";
+    // Relations between fields are validate()'s: each field alone is in range.
+    EXPECT_EQ(set_refusal(c, "resolution_min", 20), "");
+    EXPECT_EQ(refusal(c),
+              "BuildConfig.resolution_min = 20 is above BuildConfig.resolution_max = 16");
 }
 
 TEST(BuildPresets, PosterTurnsOffWhatThePosterDoesNotHaveAndKeepsTheRest)

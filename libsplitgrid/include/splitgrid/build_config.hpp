@@ -190,6 +190,13 @@ inline constexpr std::array<std::string_view, 2> build_preset_names{"default", "
 /// nothing. Throws ConfigError for any other name.
 [[nodiscard]] BuildConfig apply_build_preset(BuildConfig config, std::string_view name);
 
+/// Sets `field` of `config` from a number given by a caller that does not hold the field's own
+/// type (a binding, a parser): a count must be a whole number, and a count or real must lie in
+/// the field's range, else ConfigError with validate()'s message ("BuildConfig.leaf_size = -1 is
+/// out of range [1, 1048576]"), also for values the field's type could not hold; for a switch
+/// any non-zero value is on. Fields that may not exceed another are left to validate().
+void set_build_config_field(BuildConfig& config, const BuildConfigField& field, double value);
+
 /// Throws ConfigError naming the first field outside its range, e.g.
 /// "BuildConfig.leaf_size = 0 is out of range [1, 1048576]", then the first field above the
 /// one it may not exceed: "BuildConfig.resolution_min = 9 is above BuildConfig.resolution_max

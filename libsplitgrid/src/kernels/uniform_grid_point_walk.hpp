@@ -34,10 +34,12 @@ inline void walk_uniform_grid_points(const UniformGrid& grid, const MeshArrays& 
     const std::array<std::uint32_t, 3> n = grid.resolution();
     std::array<CellMath, 3> cells;
     std::array<std::int64_t, 3> centre;
-    for (int k = 0; k < 3; ++k) {
-        cells[k] = grid.axis_cells(k);
+    for (std::size_t k = 0; k < 3; ++k) {
+        const int axis = static_cast<int>(k);
+        cells[k] = grid.axis_cells(axis);
         const Aabb& box = grid.box();
-        const float clamped = std::clamp(static_cast<float>(qk[k]), box.lower[k], box.upper[k]);
+        const float clamped =
+            std::clamp(static_cast<float>(qk[k]), box.lower[axis], box.upper[axis]);
         centre[k] = cells[k].locate_lowest(clamped);
     }
     const std::uint32_t* const refs = grid.refs().data();
@@ -48,9 +50,9 @@ inline void walk_uniform_grid_points(const UniformGrid& grid, const MeshArrays& 
     for (std::int64_t s = 0; s <= widest; ++s) {
         bool any_within = false;
         std::array<std::int64_t, 3> lo, hi;
-        for (int k = 0; k < 3; ++k) {
+        for (std::size_t k = 0; k < 3; ++k) {
             lo[k] = std::max<std::int64_t>(0, centre[k] - s);
-            hi[k] = std::min<std::int64_t>(n[k] - 1, centre[k] + s);
+            hi[k] = std::min<std::int64_t>(std::int64_t{n[k]} - 1, centre[k] + s);
         }
         for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
             const double dz = uniform_gap2(cells[2], qk[2], pad, z);

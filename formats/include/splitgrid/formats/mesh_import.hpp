@@ -91,4 +91,11 @@ struct ImportOptions {
 [[nodiscard]] ImportedMesh import_mesh(const std::filesystem::path& path,
                                        const ImportOptions& options = {});
 
+/// What a user of import_mesh() should be told about `path`'s import, one line each, as sg-build
+/// logs them and the Python package raises them as warnings: the report's own warnings, then
+/// the point and line primitives skipped, the triangles with non-finite corners and the
+/// zero-area triangles dropped (each line only when its count is not zero).
+[[nodiscard]] std::vector<std::string> import_warnings(const std::filesystem::path& path,
+                                                       const ImportReport& report);
+
 }  // namespace sg
