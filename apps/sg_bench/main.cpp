@@ -2,17 +2,10 @@
 /// same scenes and the same rays: build time, memory, rays per second and correctness, as a
 /// table on stdout, results.json, results.csv and PNG charts in the output folder.
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -28,6 +21,7 @@
 #include "bench_run.hpp"
 #include "cli_common.hpp"
 #include "splitgrid/error.hpp"
+#include "splitgrid/formats/child_process.hpp"
 #include "splitgrid/formats/mesh_import.hpp"
 #include "splitgrid/formats/output_file.hpp"
 #include "splitgrid/formats/temporary_paths.hpp"
@@ -37,8 +31,6 @@
 
 #include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
-
-extern char** environ;
 
 namespace {
 
@@ -253,67 +245,46 @@ void make_names_unique(std::vector<sg::bench::BenchScene>& scenes,
     }
 }
 
+/// Seconds the chart script may run: matplotlib draws the charts of a full run in seconds,
+/// but its first run on a machine builds a font cache first.
+constexpr double chart_time_limit_seconds = 600.0;
+
 /// Runs the chart script with its stdout read through a pipe: its "wrote PATH" lines become
 /// the list of charts (logged on stderr, so that stdout keeps only the table); its stderr is
-/// ours. A failure is a warning, since the JSON and CSV are written already. Returns the
-/// charts written.
+/// ours. An interrupt kills the script and removes the temporary files it leaves beside the
+/// charts. A failure, or a script still running at the time limit, is a warning, since the
+/// JSON and CSV are written already. Returns the charts written.
 std::vector<fs::path> make_charts(const Options& options, const fs::path& json)
 {
     // Debian's interpreter, where python3-matplotlib lives, before any other python3.
     const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-    std::vector<std::string> args{python, options.charts_script.string(), json.string(),
-                                  options.out.string()};
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    int pipe_fds[2];
-    if (::pipe2(pipe_fds, O_CLOEXEC) != 0) {
-        spdlog::warn("charts not made: cannot create a pipe: {}", std::strerror(errno));
-        return {};
-    }
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
-    // An interrupt kills the script (which, like every child, does not see SIGINT and
-    // SIGTERM itself: it inherits their block) and removes the temporary files it leaves
-    // beside the charts. Spawned and registered under one hold of the cleanup registry.
     std::vector<sg::CleanupEntry> cleanup;
-    pid_t pid = 0;
-    int error = 0;
-    {
-        const sg::CleanupHold hold = sg::hold_off_cleanup();
-        error = ::posix_spawnp(&pid, python.c_str(), &actions, nullptr, argv.data(), environ);
-        if (error == 0) cleanup.push_back(sg::CleanupEntry::process(pid, hold));
-    }
-    posix_spawn_file_actions_destroy(&actions);
-    ::close(pipe_fds[1]);
-    if (error != 0) {
-        ::close(pipe_fds[0]);
-        spdlog::warn("charts not made: cannot start python3: {}", std::strerror(error));
-        return {};
-    }
     for (const Chart& chart : charts)
         cleanup.push_back(sg::CleanupEntry::stale_temporaries(options.out / chart.file, "tmp"));
-
-    std::string said;
-    char buffer[4096];
-    for (;;) {
-        const ssize_t n = ::read(pipe_fds[0], buffer, sizeof buffer);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        said.append(buffer, static_cast<std::size_t>(n));
+    sg::ChildWait wait;
+    wait.time_limit_seconds = chart_time_limit_seconds;
+    sg::ChildResult child;
+    try {
+        child = sg::run_program({python, options.charts_script.string(), json.string(),
+                                 options.out.string()},
+                                wait, "cannot start " + python);
+    } catch (const sg::IoError& e) {
+        spdlog::warn("charts not made: {}", e.what());
+        return {};
     }
-    ::close(pipe_fds[0]);
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) return {};  // reaped by the interrupt cleanup
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        spdlog::warn("charts not made: {} failed (python3-matplotlib installed?)",
-                     options.charts_script.string());
+    if (child.reaped_elsewhere) return {};  // the interrupt cleanup killed it
+    if (child.timed_out) {
+        spdlog::warn("charts not made: {} was still running after {:g} s",
+                     options.charts_script.string(), chart_time_limit_seconds);
+        return {};
+    }
+    if (!child.exited_cleanly()) {
+        spdlog::warn("charts not made: {} {} (python3-matplotlib installed?)",
+                     options.charts_script.string(), sg::exit_status_text(child.wait_status));
         return {};
     }
     std::vector<fs::path> written;
-    std::istringstream lines(said);
+    std::istringstream lines(child.output);
     for (std::string line; std::getline(lines, line);)
         if (line.rfind("wrote ", 0) == 0) written.emplace_back(line.substr(6));
     return written;
