@@ -399,11 +399,6 @@ unsigned threads_that_run(unsigned threads)
                         : static_cast<unsigned>(std::max(1, tbb::info::default_concurrency()));
 }
 
-double per_triangle(std::size_t bytes, std::size_t triangles) noexcept
-{
-    return triangles == 0 ? 0.0 : static_cast<double>(bytes) / static_cast<double>(triangles);
-}
-
 std::string human_bytes(std::size_t bytes)
 {
     constexpr const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};

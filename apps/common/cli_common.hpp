@@ -164,8 +164,12 @@ void add_build_config_flags(CLI::App& app, BuildConfig& config, bool with_thread
 /// The number of threads a run with `threads` (threads_to_use's result) really uses.
 [[nodiscard]] unsigned threads_that_run(unsigned threads);
 
-/// `bytes` divided by `triangles`, or 0 when there are no triangles.
-[[nodiscard]] double per_triangle(std::size_t bytes, std::size_t triangles) noexcept;
+/// `value` (bytes, references) divided by `triangles`, or 0 when there are no triangles.
+template <class Value>
+[[nodiscard]] double per_triangle(Value value, std::size_t triangles) noexcept
+{
+    return triangles == 0 ? 0.0 : static_cast<double>(value) / static_cast<double>(triangles);
+}
 
 /// "1.23 MiB" style size, for human-readable summaries.
 [[nodiscard]] std::string human_bytes(std::size_t bytes);
