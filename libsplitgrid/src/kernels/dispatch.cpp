@@ -130,8 +130,8 @@ void closest_hits(const Structure& structure, const MeshView& mesh, std::span<co
                   std::span<Hit> hits, TraversalCounters* total, const QueryOptions& options) noexcept
 {
     const auto& k = active_table().load(std::memory_order_relaxed)->template of<Structure>();
-    k.closest[static_cast<int>(options.test)][static_cast<int>(options.padding)][total != nullptr](
-        structure, mesh, rays, hits, total);
+    k.closest_for(options.test, options.padding, total != nullptr)(structure, mesh, rays, hits,
+                                                                  total);
 }
 
 template <class Structure>

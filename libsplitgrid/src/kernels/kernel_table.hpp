@@ -4,8 +4,10 @@
 // for each triangle test, padding and counting choice, as compiled for one instruction set
 // (kernels_<isa>.cpp). dispatch.cpp picks the table of the active instruction set.
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 
 #include "splitgrid/baselines/bvh.hpp"
 #include "splitgrid/baselines/kd_tree.hpp"
@@ -28,12 +30,56 @@ template <class Structure>
 using AnyKernel = void (*)(const Structure&, const MeshView&, std::span<const Ray>,
                            std::span<std::uint8_t>, TraversalCounters* total);
 
+/// The place of each choice in StructureKernels::closest. The table is filled
+/// (kernels_isa.inc) and read (dispatch.cpp) through these, so a reordered enum cannot make a
+/// query run another test's kernel; a new enumerator makes the switch warn (-Wswitch) until
+/// it has a place, and the table's completeness check fails until it has its kernels.
+inline constexpr std::size_t triangle_test_count = 2;
+inline constexpr std::size_t padding_count = 2;
+[[nodiscard]] constexpr std::size_t kernel_slot(TriangleTest test) noexcept
+{
+    switch (test) {
+    case TriangleTest::watertight:
+        return 0;
+    case TriangleTest::moller_trumbore:
+        return 1;
+    }
+    return 0;
+}
+[[nodiscard]] constexpr std::size_t kernel_slot(Padding padding) noexcept
+{
+    switch (padding) {
+    case Padding::conservative:
+        return 0;
+    case Padding::none:
+        return 1;
+    }
+    return 0;
+}
+
 template <class Structure>
 struct StructureKernels {
-    /// [TriangleTest][Padding][counting]
-    ClosestKernel<Structure> closest[2][2][2];
+    /// [kernel_slot(TriangleTest)][kernel_slot(Padding)][counting]
+    ClosestKernel<Structure> closest[triangle_test_count][padding_count][2];
     /// [counting]; watertight test, conservative padding
     AnyKernel<Structure> any[2];
+
+    /// The closest-hit kernel of one choice of test, padding and counting.
+    [[nodiscard]] constexpr ClosestKernel<Structure> closest_for(TriangleTest test,
+                                                                 Padding padding,
+                                                                 bool counting) const noexcept
+    {
+        return closest[kernel_slot(test)][kernel_slot(padding)][counting ? 1 : 0];
+    }
+    /// True once every slot holds a kernel.
+    [[nodiscard]] constexpr bool is_complete() const noexcept
+    {
+        for (const auto& by_padding : closest)
+            for (const auto& by_counting : by_padding)
+                for (const auto kernel : by_counting)
+                    if (kernel == nullptr) return false;
+        return any[0] != nullptr && any[1] != nullptr;
+    }
 };
 
 struct KernelTable {
@@ -41,6 +87,12 @@ struct KernelTable {
     StructureKernels<Bvh> bvh;
     StructureKernels<KdTree> kd_tree;
     StructureKernels<UniformGrid> uniform_grid;
+
+    [[nodiscard]] constexpr bool is_complete() const noexcept
+    {
+        return split_grid.is_complete() && bvh.is_complete() && kd_tree.is_complete() &&
+               uniform_grid.is_complete();
+    }
 
     template <class Structure>
     [[nodiscard]] const StructureKernels<Structure>& of() const noexcept

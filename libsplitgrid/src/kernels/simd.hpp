@@ -1,6 +1,6 @@
 #pragma once
 
-// Traversal kernels, part 3: 8-wide float and int vectors for the batched triangle test, as
+// Traversal kernels, part 2: 8-wide float and int vectors for the batched triangle test, as
 // GCC vector extensions, so that one source compiles to two SSE2 halves, one AVX2 register or
 // AVX-512 mask operations by the target region it is included in. Only the gathers and the
 // lane mask differ by instruction set (and the triangle test's loads from the mesh:
