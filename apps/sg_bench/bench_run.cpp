@@ -168,8 +168,8 @@ struct TimedBuild {
 // released first, so a build reuses memory the process already holds instead of faulting in
 // new pages beside a live structure; and with `warm_up_threads` > 0, one untimed build on that
 // many threads goes first, so costs a library pays once per process (its thread pool, its
-// first pages) are not charged to one thread count (docs/BENCH.md, "Build time: first
-// builds", has the figures). The untimed build is the one whose peak memory is measured
+// first pages) are not charged to one thread count (docs/notebook/build.md, "Build time:
+// first builds", has the figures). The untimed build is the one whose peak memory is measured
 // (build_memory.hpp): counting every allocation would slow the timed ones.
 TimedBuild timed_build(const std::string& name, const MeshView& mesh,
                        const StructureConfigs& configs, unsigned threads, std::uint32_t repeats,

@@ -51,9 +51,9 @@ struct TriExtent {
 // where std::allocator fills them (with zeros, or a type's default member initializers):
 // the top of the tree sizes its arrays of triangle ids and extents and then writes every
 // element, and filling them first was a pass over tens of megabytes per level
-// (docs/BENCH.md, "The top nodes' triangles handed out in parallel"). For types whose bytes
-// may be left as they are until written: trivially copyable and destructible (so that the
-// allocation itself creates them, as for malloc).
+// (docs/notebook/build.md, "The top nodes' triangles handed out in parallel"). For types whose
+// bytes may be left as they are until written: trivially copyable and destructible (so that
+// the allocation itself creates them, as for malloc).
 template <class T>
 struct UninitializedAllocator {
     using value_type = T;
@@ -107,8 +107,8 @@ struct StoredExtents {
 // ... or, at the root, computed where they are read: every triangle lies in the root's box,
 // so its extent there is its own bounding box, whose corners are floats already (what
 // rounded_extent gives for it: the clipped_extent of a triangle inside its box). The root
-// then fills no array of them, which took a tenth of a build (docs/BENCH.md, "The root
-// without an array of extents").
+// then fills no array of them, a large part of a build that faulted in fresh memory every
+// time (docs/notebook/build.md, "The root without an array of extents").
 struct WholeExtents {
     const MeshView* mesh;
     const std::uint32_t* tris;
@@ -121,8 +121,8 @@ struct WholeExtents {
         const Vec3f b = mesh->vertex(tris[k], 1);
         const Vec3f c = mesh->vertex(tris[k], 2);
         // triangle_box and size_of in floats: the same box and sizes, without the conversions
-        // to double, in a step the root takes up to three times per triangle. Read through
-        // triangle_box and size_of, the dragon's build took 1.19 times as long (A/B, 3 rounds).
+        // to double, in a step the root takes up to three times per triangle; through
+        // triangle_box and size_of the whole build was measurably slower.
         TriExtent e;
         e.known = true;
         for (int i = 0; i < 3; ++i) {

@@ -13,9 +13,9 @@ namespace sg::detail {
 namespace {
 
 // A one-cell bounding node is added where it cuts a cell's surface area by at least this
-// fraction (BuildConfig::bounding_nodes). Counted on seven scenes (docs/BENCH.md, "Lever 4"):
-// 0.1 costs 5-20% more bytes for no fewer instructions per ray, 0.5 costs 2-10% more
-// instructions.
+// fraction (BuildConfig::bounding_nodes): counted on seven scenes, a tenth costs bytes for no
+// fewer instructions per ray, a half costs instructions (docs/notebook/structure.md, "Lever 4:
+// bounding nodes (one-cell nodes on the other axes)").
 constexpr double bounding_node_gain = 0.25;
 
 // A cell becomes a leaf when it received every one of its parent's triangles this many levels
@@ -23,7 +23,8 @@ constexpr double bounding_node_gain = 0.25;
 // edge or corner): each split there repeats the last at a smaller scale, with the same
 // triangles in the cell around the meeting point, down to max_depth. 1 would put a whole fan
 // into the cell around its centre, where many rays pass; 2 ends the chains and leaves the
-// work per ray as it was (docs/BENCH.md, "Lever 4b", has the counts for 1, 2 and no limit).
+// work per ray as it was (docs/notebook/structure.md, "Lever 4b: a cell that keeps all of its
+// parent's triangles twice in a row is a leaf", has the counts for 1, 2 and no limit).
 constexpr std::uint32_t kept_all_limit = 2;
 
 }  // namespace
@@ -130,8 +131,8 @@ bool SplitPlanner::try_split(const Aabb& box, const ExtentSummary& summary, int 
     const std::size_t stride = split.resolution + 1;
     split.counts.assign(stride, 0);
     // The coordinates are gathered in blocks, so that locate_cells finds four triangles'
-    // cells at once (docs/BENCH.md, "Locating four triangles at once"). An empty extent's
-    // coordinates are zero; its cells are thrown away.
+    // cells at once (docs/notebook/build.md, "Locating four triangles at once"). An empty
+    // extent's coordinates are zero; its cells are thrown away.
     auto locate = [&](std::size_t begin, std::size_t end, std::uint32_t* counts) {
         constexpr std::size_t block = 64;
         std::array<float, block> lower;

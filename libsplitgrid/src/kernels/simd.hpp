@@ -61,8 +61,9 @@ typedef std::int32_t vint __attribute__((vector_size(32)));
 /// Clears the upper halves of the 256- and 512-bit registers (vzeroupper; nothing in the
 /// SSE2 kernels). The batch drivers call it after every walk: GCC does not insert it on every
 /// exit of a walk whose inlined leaf test uses 256-bit registers, and the code compiled
-/// without AVX that runs between two rays then stalls on the dirty registers (it halved the
-/// BVH's speed on primary rays; docs/BENCH.md, "The BVH: eight boxes per step").
+/// without AVX that runs between two rays then stalls on the dirty registers (it cost the BVH
+/// much of its speed on primary rays; docs/notebook/trace.md, "The BVH: eight boxes per
+/// step").
 [[gnu::always_inline]] inline void clear_upper_lanes() noexcept
 {
 #if SG_KERNEL_ISA_LEVEL >= 3
