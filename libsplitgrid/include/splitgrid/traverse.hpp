@@ -7,6 +7,7 @@
 /// detail::closest_hits and detail::any_hits (structure_queries.hpp), which
 /// src/kernels/dispatch.cpp routes to the table of the active instruction set; each
 /// kernels_<isa>.cpp compiles the walk for its instruction set through kernels_isa.inc.
+/// docs/ARCHITECTURE.md lists the traversal's files in reading order.
 
 #include <cstdint>
 #include <span>
