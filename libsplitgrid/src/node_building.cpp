@@ -314,7 +314,7 @@ BuiltCell NodeBuilder::build_fragment(const Aabb& box, const TriangleIds& tris,
     out.leaf_words.clear();
     const CellRef root =
         build_serial(box, 0, n, n, depth, weight, kept_all, false, scratch, out);
-    // Fragments wait for flatten() until the whole tree is built: no spare capacity.
+    // Fragments wait for assemble() until the whole tree is built: no spare capacity.
     BuiltCell cell;
     cell.kind = root.kind();
     cell.fragment = std::make_unique<Fragment>(
@@ -326,7 +326,7 @@ BuiltCell NodeBuilder::build_fragment(const Aabb& box, const TriangleIds& tris,
 
 // build_cell for one thread: the same decisions, for the triangles at [begin, begin + n)
 // of the scratch stacks, written to `out` in depth-first pre-order (a node's record, its
-// cells as one block, then its children), which is the order flatten() gives the parallel
+// cells as one block, then its children), which is the order assemble() gives the parallel
 // part. `top` is the first free place on the stacks; the children's triangles are stacked
 // there, cell after cell. `all_known`: this cell's extents are all computed, or it becomes a
 // leaf without reading them (ends_as_plain_leaf).
