@@ -46,8 +46,8 @@ def show_export(vtm_path, max_depth=DEFAULT_MAX_DEPTH, view=None):
     shallow.UpperThreshold = max_depth
     shallow.ThresholdMethod = "Between"
     # The boxes' edges as lines: looks like the Wireframe representation, but Debian's
-    # software OpenGL (llvmpipe, as under Xvfb) draws lines about five times faster than it
-    # draws polygons in wireframe mode.
+    # software OpenGL (llvmpipe, as under Xvfb) draws lines much faster than it draws polygons
+    # in wireframe mode (docs/VIZ.md, "ParaView on Debian 12").
     edges = simple.ExtractEdges(registrationName="cell_edges", Input=shallow)
     boxes = simple.Show(edges, view)
     simple.ColorBy(boxes, ("CELLS", "depth"))

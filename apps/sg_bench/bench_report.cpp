@@ -11,11 +11,7 @@ namespace sg::bench {
 namespace {
 
 using apps::Json;
-
-double per_triangle(std::size_t value, std::size_t triangles)
-{
-    return triangles ? static_cast<double>(value) / static_cast<double>(triangles) : 0.0;
-}
+using apps::per_triangle;
 
 // {"1": x, "2": y}: values keyed by thread count.
 Json by_threads(const std::vector<double>& values, const BenchPlan& plan)

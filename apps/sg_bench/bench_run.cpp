@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include "build_memory.hpp"
+#include "cli_common.hpp"
 #include "splitgrid/arena_scene.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/mesh_order.hpp"
@@ -19,12 +20,9 @@
 namespace sg::bench {
 namespace {
 
+using apps::per_triangle;
+using apps::seconds_since;
 using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start)
-{
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Rays per task: large enough that the virtual batch call and the task cost vanish, small
 // enough that two threads share the work evenly.
@@ -156,11 +154,6 @@ std::size_t mesh_bytes(const MeshView& mesh)
     return mesh.vertices.size() * sizeof(Vec3f) + mesh.triangles.size() * sizeof(Triangle);
 }
 
-double per_triangle(double value, std::size_t triangles)
-{
-    return triangles ? value / static_cast<double>(triangles) : 0.0;
-}
-
 std::string threads_text(unsigned t) { return std::to_string(t) + (t == 1 ? " thread" : " threads"); }
 
 /// A structure, the median of its timed builds and the memory of its untimed one.
@@ -175,8 +168,8 @@ struct TimedBuild {
 // released first, so a build reuses memory the process already holds instead of faulting in
 // new pages beside a live structure; and with `warm_up_threads` > 0, one untimed build on that
 // many threads goes first, so costs a library pays once per process (its thread pool, its
-// first pages) are not charged to one thread count (docs/BENCH.md, "Build time: first
-// builds", has the figures). The untimed build is the one whose peak memory is measured
+// first pages) are not charged to one thread count (docs/notebook/build.md, "Build time:
+// first builds", has the figures). The untimed build is the one whose peak memory is measured
 // (build_memory.hpp): counting every allocation would slow the timed ones.
 TimedBuild timed_build(const std::string& name, const MeshView& mesh,
                        const StructureConfigs& configs, unsigned threads, std::uint32_t repeats,
@@ -396,10 +389,9 @@ public:
             r.config = p.config;
             r.build_seconds = timed.seconds;
             r.mrays_per_s = median(rates);
-            r.bytes_per_triangle = per_triangle(
-                static_cast<double>(built->structure_bytes() + mesh_bytes(mesh)), mesh.triangle_count());
-            r.references_per_triangle =
-                per_triangle(static_cast<double>(built->reference_count()), mesh.triangle_count());
+            r.bytes_per_triangle =
+                per_triangle(built->structure_bytes() + mesh_bytes(mesh), mesh.triangle_count());
+            r.references_per_triangle = per_triangle(built->reference_count(), mesh.triangle_count());
             if (p.parameter == "default") default_answers = answers;
             else r.disagreements = count_disagreements(default_answers, answers, false, true);
             out.push_back(r);
@@ -423,12 +415,10 @@ public:
                 r.triangles = mesh.triangle_count();
                 r.build_seconds = timed.seconds;
                 r.build_memory = timed.memory;
-                r.structure_bytes_per_triangle =
-                    per_triangle(static_cast<double>(built->structure_bytes()), r.triangles);
-                r.total_bytes_per_triangle = per_triangle(
-                    static_cast<double>(built->structure_bytes() + mesh_bytes(mesh)), r.triangles);
-                r.references_per_triangle =
-                    per_triangle(static_cast<double>(built->reference_count()), r.triangles);
+                r.structure_bytes_per_triangle = per_triangle(built->structure_bytes(), r.triangles);
+                r.total_bytes_per_triangle =
+                    per_triangle(built->structure_bytes() + mesh_bytes(mesh), r.triangles);
+                r.references_per_triangle = per_triangle(built->reference_count(), r.triangles);
                 out.push_back(r);
             }
         }

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "cli_common.hpp"
 #include "splitgrid/builder.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/split_grid.hpp"
@@ -15,10 +16,7 @@
 namespace sg::bench {
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start)
-{
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+using apps::seconds_since;
 
 // Runs `query(rays, answers)` over `rays` in chunks with scratch answers (closest hits, or
 // any-hit flags), for the work counting of count_work, which keeps no answer.

@@ -149,7 +149,7 @@ void build(Options& options)
                      {"structure_bytes", stats.structure_bytes},
                      {"structure_bytes_per_triangle", stats.structure_bytes_per_triangle}};
         j["file"] = {{"bytes", file_bytes},
-                     {"bytes_per_triangle", sg::apps::per_triangle(file_bytes, triangles_kept)}};
+                     {"bytes_per_triangle", sg::per_triangle(file_bytes, triangles_kept)}};
         j["seconds"] = {
             {"import", import_seconds}, {"build", build_seconds}, {"write", write_seconds}};
         j["threads"] = threads;
@@ -172,7 +172,7 @@ void build(Options& options)
         stats.reference_count, stats.duplication_factor, stats.max_depth,
         sg::apps::human_bytes(stats.structure_bytes),
         stats.structure_bytes_per_triangle, sg::apps::human_bytes(file_bytes),
-        sg::apps::per_triangle(file_bytes, triangles_kept), options.output.string(),
+        sg::per_triangle(file_bytes, triangles_kept), options.output.string(),
         import_seconds, build_seconds, threads, threads == 1 ? "" : "s", write_seconds);
 }
 

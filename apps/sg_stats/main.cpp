@@ -62,7 +62,7 @@ void print_text(const Options& options, const Report& r)
     const sg::GridStats& s = r.stats;
     const std::size_t triangles = r.contents.mesh.triangles.size();
     const auto bytes_per_triangle = [&](std::size_t bytes) {
-        return sg::apps::per_triangle(bytes, triangles);
+        return sg::per_triangle(bytes, triangles);
     };
     const std::size_t file_bytes = static_cast<std::size_t>(r.info.file_bytes);
 

@@ -2,15 +2,12 @@
 // assertions on some malformed files and may loop or exhaust memory on others; only a
 // separate process turns those into an error message instead of the end of the tool.
 //
-// fork() without exec: the child already has Assimp and the import code mapped, needs no
-// helper executable to be found at run time, and leaves with _exit() so that none of the
-// parent's atexit handlers, buffered streams or sanitizer leak checks run twice.
+// fork() without exec (run_in_fork, child_process.hpp): the child already has Assimp and the
+// import code mapped, and needs no helper executable to be found at run time. This file holds
+// what is the import's own: the child's limits, and the answer it sends back.
 
 #include "import_child.hpp"
 
-#include <algorithm>
-#include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdint>
@@ -19,19 +16,14 @@
 #include <fstream>
 #include <new>
 #include <string>
-#include <string_view>
-#include <system_error>
 #include <vector>
 
-#include <fcntl.h>
-#include <poll.h>
-#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "splitgrid/error.hpp"
-#include "splitgrid/formats/temporary_paths.hpp"
+#include "splitgrid/formats/child_process.hpp"
 
 namespace sg::detail {
 namespace {
@@ -46,8 +38,8 @@ enum class ChildStatus : std::uint8_t {
     other_error = 4,
 };
 
-/// Bytes of captured stderr kept: enough for the last lines of any report.
-constexpr std::size_t stderr_keep_bytes = 16384;
+/// Bytes of the child's captured output kept: enough for the last lines of any report.
+constexpr std::size_t output_keep_bytes = 16384;
 /// Longest quotation of the child's last line in an error message.
 constexpr std::size_t quoted_line_max = 200;
 
@@ -194,21 +186,10 @@ void apply_limits(const ImportOptions& options)
     ::setrlimit(RLIMIT_CPU, &cpu_limit);
 }
 
-[[noreturn]] void run_child(pid_t parent, int answer_fd, int output_fd,
-                            const ImportOptions& options,
-                            const std::function<ImportedMesh()>& import)
+void run_child(int answer_fd, const ImportOptions& options,
+               const std::function<ImportedMesh()>& import)
 {
-    // A parent killed outright (SIGKILL) cannot stop the child: the kernel does, so that no
-    // import is left running for nobody. Checked once more in case the parent died before.
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (::getppid() != parent) ::_exit(1);
-    // Assimp is silent, but an assertion or a sanitizer report goes to stderr: capture both
-    // streams, so nothing lands in the tool's own output (stdout may be JSON).
-    ::dup2(output_fd, STDOUT_FILENO);
-    ::dup2(output_fd, STDERR_FILENO);
-    ::close(output_fd);
     apply_limits(options);
-
     WireWriter answer;
     try {
         const ImportedMesh imported = import();
@@ -230,108 +211,9 @@ void apply_limits(const ImportOptions& options)
         answer.text(e.what());
     }
     write_all(answer_fd, answer.bytes());
-    ::_exit(0);
 }
 
 // ----- Parent side.
-
-/// Closes a descriptor once.
-class Fd {
-public:
-    Fd() = default;
-    Fd(const Fd&) = delete;
-    Fd& operator=(const Fd&) = delete;
-    ~Fd() { reset(); }
-    void reset(int fd = -1)
-    {
-        if (fd_ >= 0) ::close(fd_);
-        fd_ = fd;
-    }
-    [[nodiscard]] int get() const noexcept { return fd_; }
-
-private:
-    int fd_ = -1;
-};
-
-struct Pipe {
-    Fd read;
-    Fd write;
-};
-
-void open_pipe(Pipe& p, const std::filesystem::path& path)
-{
-    int fds[2];
-    if (::pipe2(fds, O_CLOEXEC) != 0)
-        throw IoError(path.string() + ": cannot start the import process: pipe: " +
-                      std::error_code(errno, std::generic_category()).message());
-    p.read.reset(fds[0]);
-    p.write.reset(fds[1]);
-}
-
-/// What the parent collected from one child.
-struct ChildResult {
-    std::vector<std::uint8_t> answer;
-    std::string output;  ///< the child's stdout and stderr (the last stderr_keep_bytes)
-    int wait_status = 0;
-    bool timed_out = false;
-};
-
-/// Reads both pipes until the child closes them or the deadline passes, then reaps the
-/// child (killing it first on a timeout).
-ChildResult collect(pid_t pid, Fd& answer_fd, Fd& output_fd, double time_limit_seconds)
-{
-    using Clock = std::chrono::steady_clock;
-    const auto deadline =
-        Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                           std::chrono::duration<double>(time_limit_seconds));
-    ChildResult result;
-    std::vector<std::uint8_t> buffer(65536);
-    while (answer_fd.get() >= 0 || output_fd.get() >= 0) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-            deadline - Clock::now());
-        if (left.count() <= 0) {
-            result.timed_out = true;
-            break;
-        }
-        pollfd fds[2] = {{answer_fd.get(), POLLIN, 0}, {output_fd.get(), POLLIN, 0}};
-        const int ready = ::poll(fds, 2, static_cast<int>(std::min<std::int64_t>(
-                                             left.count(), 1000)));
-        if (ready < 0 && errno != EINTR) break;
-        for (int i = 0; i < 2; ++i) {
-            if (fds[i].fd < 0 || fds[i].revents == 0) continue;
-            const ssize_t n = ::read(fds[i].fd, buffer.data(), buffer.size());
-            if (n < 0 && errno == EINTR) continue;
-            Fd& fd = i == 0 ? answer_fd : output_fd;
-            if (n <= 0) {
-                fd.reset();
-                continue;
-            }
-            if (i == 0) {
-                result.answer.insert(result.answer.end(), buffer.begin(), buffer.begin() + n);
-            } else {
-                result.output.append(reinterpret_cast<const char*>(buffer.data()),
-                                     static_cast<std::size_t>(n));
-                if (result.output.size() > 2 * stderr_keep_bytes)
-                    result.output.erase(0, result.output.size() - stderr_keep_bytes);
-            }
-        }
-    }
-    // The pipes close when the child exits, but a child could also close them and go on
-    // (sleeping, so RLIMIT_CPU would not end it): the deadline holds for the exit too.
-    while (!result.timed_out) {
-        const pid_t done = ::waitpid(pid, &result.wait_status, WNOHANG);
-        if (done == pid || (done < 0 && errno != EINTR)) return result;
-        if (Clock::now() >= deadline) {
-            result.timed_out = true;
-            break;
-        }
-        ::usleep(1000);
-    }
-    ::kill(pid, SIGKILL);
-    while (::waitpid(pid, &result.wait_status, 0) < 0 && errno == EINTR) {
-    }
-    return result;
-}
 
 /// The last non-empty line the child printed, made printable and short, or "".
 std::string last_line(const std::string& output)
@@ -368,13 +250,8 @@ std::string seconds_text(double seconds)
         throw InputError(name + ": import exceeded the time limit of " +
                          seconds_text(options.time_limit_seconds) + " s");
     const std::string said = last_line(child.output);
-    if (WIFSIGNALED(child.wait_status)) {
-        const int sig = WTERMSIG(child.wait_status);
-        throw InputError(name + ": importer crashed (signal " + std::to_string(sig) + ", " +
-                         ::strsignal(sig) + ")" + (said.empty() ? "" : ": " + said));
-    }
-    throw InputError(name + ": importer exited with status " +
-                     std::to_string(WEXITSTATUS(child.wait_status)) + " without an answer" +
+    throw InputError(name + ": importer " + exit_status_text(child.wait_status) +
+                     (WIFSIGNALED(child.wait_status) ? "" : " without an answer") +
                      (said.empty() ? "" : ": " + said));
 }
 
@@ -392,39 +269,13 @@ ImportedMesh import_in_child(const std::filesystem::path& path, const ImportOpti
                              const std::function<ImportedMesh()>& import)
 {
     check_limits(path, options);
-    Pipe answer;
-    Pipe output;
-    open_pipe(answer, path);
-    open_pipe(output, path);
-    // Anything buffered now would be written twice, once by each process.
-    std::fflush(nullptr);
-    // An interrupted tool kills the child rather than leave it importing (the child keeps the
-    // parent's signal mask, so in a tool SIGINT and SIGTERM do not reach it directly). The
-    // fork and the registration happen under one hold of the cleanup registry; the child
-    // never touches the registry, so its copy of the held lock does not matter.
-    CleanupEntry kill_on_interrupt;
-    pid_t pid = 0;
-    {
-        const CleanupHold hold = hold_off_cleanup();
-        const pid_t parent = ::getpid();
-        pid = ::fork();
-        if (pid == 0) {
-            answer.read.reset();
-            output.read.reset();
-            run_child(parent, answer.write.get(), output.write.get(), options, import);
-        }
-        if (pid > 0) kill_on_interrupt = CleanupEntry::process(pid, hold);
-    }
-    if (pid < 0)
-        throw IoError(path.string() + ": cannot start the import process: fork: " +
-                      std::error_code(errno, std::generic_category()).message());
-    answer.write.reset();
-    output.write.reset();
-    const ChildResult child = collect(pid, answer.read, output.read, options.time_limit_seconds);
-
-    const bool exited_cleanly = WIFEXITED(child.wait_status) &&
-                                WEXITSTATUS(child.wait_status) == 0 && !child.timed_out;
-    if (!exited_cleanly || child.answer.empty()) throw_child_failure(path, options, child);
+    ChildWait wait;
+    wait.time_limit_seconds = options.time_limit_seconds;
+    wait.output_keep_bytes = output_keep_bytes;
+    const ChildResult child =
+        run_in_fork([&](int answer_fd) { run_child(answer_fd, options, import); }, wait,
+                    path.string() + ": cannot start the import process");
+    if (!child.exited_cleanly() || child.answer.empty()) throw_child_failure(path, options, child);
 
     WireReader in(child.answer);
     std::uint8_t status_byte = 0;

@@ -105,9 +105,9 @@ constexpr double infinity = std::numeric_limits<double>::infinity();
 
 // The box of the points added so far (lower > upper while there are none), x and y as a pair:
 // a point costs one min and one max on the pair and one of each on z instead of three each
-// (docs/BENCH.md). Lane by lane `a < b ? a : b` is what std::min(b, a) returns, also for zeros
-// of either sign and NaNs (GCC compiles it to minpd), so the box is the one per-component
-// std::min and std::max give.
+// (docs/notebook/build.md, "A piece's box widened two coordinates at a time"). Lane by lane
+// `a < b ? a : b` is what std::min(b, a) returns, also for zeros of either sign and NaNs (GCC
+// compiles it to minpd), so the box is the one per-component std::min and std::max give.
 struct Widening {
     Pair lower_xy = {infinity, infinity};
     Pair upper_xy = {-infinity, -infinity};

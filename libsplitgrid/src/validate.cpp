@@ -24,7 +24,7 @@ std::string node_name(std::uint32_t node) { return "node " + std::to_string(node
 // words must lie in the array and end with a reference marked last (the traversal reads up to
 // it), name triangles of the mesh in strictly ascending order, and belong to no other leaf.
 // `place` names the cell in a message; it is called only to fail: a name built for every cell
-// made loading the dragon's file (then 46 MB) 1.2 times as slow (`sg-trace`, 100 rays).
+// made loading a large file markedly slower.
 template <class Place>
 void check_cell(const SplitGrid& grid, const CellRef& cell, const Place& place,
                 std::vector<bool>& word_seen)

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstddef>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 
+#include "support/changed_config.hpp"
 #include "support/leaf_triangles.hpp"
 #include "support/one_cell_nodes.hpp"
 
@@ -139,39 +141,35 @@ TEST(SgBuild, BuildFlagsReachTheFile)
     ASSERT_TRUE(fs::exists(model));
     ScratchDir scratch;
     const fs::path out = scratch / "duck.sg";
-    const ToolRun run = run_tool(SG_BUILD_EXE,
-                                 {model.string(), "-o", out.string(), "--resolution-min", "3",
-                                  "--resolution-max", "16", "--resolution-sigma", "10.5",
-                                  "--leaf-size", "2", "--max-depth", "5",
-                                  "--no-progress-fraction", "0.75", "--min-cell-width", "0.5",
-                                  "--no-stop-by-cost", "--no-bounding-planes",
-                                  "--no-bounding-nodes", "--no-clip-triangles", "--threads", "2",
-                                  "-q"},
-                                 scratch);
+    const BuildConfig wanted = test::every_field_changed(false);
+    const auto text = [](auto value) {
+        std::ostringstream s;
+        s << value;
+        return s.str();
+    };
+    const ToolRun run = run_tool(
+        SG_BUILD_EXE,
+        {model.string(), "-o", out.string(), "--resolution-min", text(wanted.resolution_min),
+         "--resolution-max", text(wanted.resolution_max), "--resolution-sigma",
+         text(wanted.resolution_sigma), "--leaf-size", text(wanted.leaf_size), "--max-depth",
+         text(wanted.max_depth), "--no-progress-fraction", text(wanted.no_progress_fraction),
+         "--min-cell-width", text(wanted.min_cell_width), "--no-stop-by-cost",
+         "--no-bounding-planes", "--no-bounding-nodes", "--no-clip-triangles", "--threads",
+         text(wanted.threads), "-q"},
+        scratch);
     ASSERT_EQ(run.exit_code, 0) << describe(run);
     EXPECT_EQ(run.err, "") << "nothing to warn about, and -q hides the rest";
     const SgContents contents = read_sg_file(out);
-    BuildConfig expected;
-    expected.resolution_min = 3;
-    expected.resolution_max = 16;
-    expected.resolution_sigma = 10.5;
-    expected.leaf_size = 2;
-    expected.max_depth = 5;
-    expected.no_progress_fraction = 0.75;
-    expected.min_cell_width = 0.5;
-    expected.stop_by_cost = false;
-    expected.bounding_planes = false;
-    expected.bounding_nodes = false;
-    expected.clip_triangles = false;
+    BuildConfig expected = wanted;
     expected.threads = 0;  // not kept: the result does not depend on it
     EXPECT_EQ(contents.grid.config, expected);
     const GridStats stats = compute_stats(contents.grid);
-    EXPECT_LE(stats.max_depth, 5u);
+    EXPECT_LE(stats.max_depth, wanted.max_depth);
     // The min-cell-width cap may lower a resolution below --resolution-min, never raise it
     // above --resolution-max.
     std::size_t above_max = 0;
     for (const GridNode& node : contents.grid.nodes)
-        if (node.resolution() > 16u) ++above_max;
+        if (node.resolution() > wanted.resolution_max) ++above_max;
     EXPECT_EQ(above_max, 0u);
 
     // Without the cap, every resolution lies in [--resolution-min, --resolution-max], but for

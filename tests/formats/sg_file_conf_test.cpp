@@ -10,6 +10,7 @@
 #include "splitgrid/builder.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/formats/sg_file.hpp"
+#include "support/changed_config.hpp"
 #include "support/random_scene.hpp"
 
 #include <gtest/gtest.h>
@@ -22,19 +23,7 @@ SgContents unusual_contents(bool switches)
 {
     SgContents c;
     c.mesh = test::random_triangles(5, 60, Aabb{{0, 0, 0}, {1, 1, 1}}, 0.2f);
-    BuildConfig config;
-    config.resolution_min = 3;
-    config.resolution_max = 11;
-    config.resolution_sigma = 17.5;
-    config.leaf_size = 5;
-    config.max_depth = 9;
-    config.no_progress_fraction = 0.75;
-    config.min_cell_width = 0.5;
-    config.stop_by_cost = switches;
-    config.bounding_planes = switches;
-    config.bounding_nodes = switches;
-    config.clip_triangles = switches;
-    c.grid = build_split_grid(c.mesh.view(), config);
+    c.grid = build_split_grid(c.mesh.view(), test::every_field_changed(switches));
     c.grid.config.threads = 7;  // the builder keeps 0; the file stores whatever it is given
     c.source_name = "conf.obj";
     return c;
@@ -50,13 +39,14 @@ TEST(SgFileConf, FieldsLieAtTheDocumentedOffsets)
         ASSERT_EQ(std::string(bytes.begin() + 80, bytes.begin() + 84), "CONF");
         const auto at = static_cast<std::size_t>(test::load_le<std::uint64_t>(bytes, 88));
         EXPECT_EQ(test::load_le<std::uint64_t>(bytes, 96), 88u) << "CONF holds 88 bytes";
-        EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 0), 3u);
-        EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 4), 11u);
-        EXPECT_EQ(test::load_le<double>(bytes, at + 8), 17.5);
-        EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 16), 5u);
-        EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 20), 9u);
-        EXPECT_EQ(test::load_le<double>(bytes, at + 24), 0.75);
-        EXPECT_EQ(test::load_le<double>(bytes, at + 32), 0.5);
+        const BuildConfig config = test::every_field_changed(switches);
+        EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 0), config.resolution_min);
+        EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 4), config.resolution_max);
+        EXPECT_EQ(test::load_le<double>(bytes, at + 8), config.resolution_sigma);
+        EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 16), config.leaf_size);
+        EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 20), config.max_depth);
+        EXPECT_EQ(test::load_le<double>(bytes, at + 24), config.no_progress_fraction);
+        EXPECT_EQ(test::load_le<double>(bytes, at + 32), config.min_cell_width);
         EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 40), switches ? 1u : 0u);
         EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 44), 7u);
         EXPECT_EQ(test::load_le<std::uint32_t>(bytes, at + 48), c.mesh.triangles.size());

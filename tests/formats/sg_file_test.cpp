@@ -19,6 +19,7 @@
 #include "splitgrid/builder.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/validate.hpp"
+#include "support/changed_config.hpp"
 #include "support/random_scene.hpp"
 
 namespace sg {
@@ -28,21 +29,12 @@ using test::load_le;
 
 constexpr Aabb unit_box{{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}};
 
-/// A non-default configuration, so that every field is seen to survive the round trip.
+/// A configuration away from the defaults, so that its fields are seen to survive the round
+/// trip; with bounding nodes, so that the grids hold one-cell nodes too.
 BuildConfig test_config()
 {
-    BuildConfig c;
-    c.resolution_min = 3;
-    c.resolution_max = 17;
-    c.resolution_sigma = 12.5;
-    c.leaf_size = 2;
-    c.max_depth = 20;
-    c.no_progress_fraction = 0.75;
-    c.min_cell_width = 0.5;
-    c.stop_by_cost = false;
-    c.bounding_planes = false;
-    c.clip_triangles = false;
-    c.threads = 2;
+    BuildConfig c = test::every_field_changed(false);
+    c.bounding_nodes = true;
     return c;
 }
 

@@ -28,21 +28,18 @@ struct BuildConfig {
     std::uint32_t resolution_min = 2;
     /// Most cells of an inner node. Range [max(2, resolution_min), 2^20]. Reached by nodes with
     /// several resolution_sigma triangles, i.e. the top levels. Wide top nodes make every ray
-    /// step through many empty cells: counted with callgrind on 20,000 random rays, 16 needs
-    /// 29% fewer instructions than 64 on the Stanford bunny, 38% on the Tachikoma, 50% on the
-    /// BMW M6, and 6% more on the full Stanford dragon (where 32 is best); it also makes 1-10%
-    /// fewer references (docs/BENCH.md has the sweep).
+    /// step through many empty cells: in counted work per ray, 16 beats 64 on most scenes (not
+    /// on the Stanford dragon, where 32 is best), and it makes fewer references
+    /// (docs/notebook/structure.md, "Build parameters under the new kernels").
     std::uint32_t resolution_max = 16;
     /// Width of the Gaussian, in triangles. Range (0, 1e9]. At n = sigma the resolution is
     /// 39% of the way from min to max, at n = 2 sigma 86%, at n = 3 sigma 99%.
     double resolution_sigma = 48.0;
     /// A cell with at most this many triangles becomes a leaf. Range [1, 2^20]. Equidistant
-    /// planes cut triangles wherever they fall, so small leaves cost references: on the
-    /// Stanford dragon (871k triangles) leaf size 8 gives 4.25 references per triangle and
-    /// 35.4 structure bytes per triangle, 16 gives 3.02 and 19.6. The leaf test reads its
-    /// references eight at a time, so a full leaf of 16 takes two passes; against 8 it
-    /// traced 2-8% faster (medians of seven scenes, 1 and 2 threads) and built 1.7 times as
-    /// fast (docs/BENCH.md, "Leaf size 16 under the lean kernels").
+    /// planes cut triangles wherever they fall, so small leaves cost references. The leaf test
+    /// reads its references eight at a time, so a full leaf of 16 takes two passes; against 8
+    /// it still traced faster, with fewer references and a faster build
+    /// (docs/notebook/structure.md, "Leaf size 16 under the lean kernels").
     std::uint32_t leaf_size = 16;
     /// Deepest inner node (the root is depth 0); cells of a node at this depth become leaves.
     /// Range [0, 64]; 64 also bounds the traversal stack.

@@ -12,7 +12,8 @@ namespace sg {
 /// Called from the building thread(s) under a lock, at most a few hundred times per build.
 using BuildProgress = std::function<void(double fraction_done)>;
 
-/// Builds a Split Grid over `mesh` (DESIGN.md section 1, BuildConfig for the parameters).
+/// Builds a Split Grid over `mesh` (docs/SPLIT_GRID.md, "Building a node"; BuildConfig for the
+/// parameters).
 ///
 /// - Each node splits the longest axis of the tight box of its triangles clipped to the
 ///   node's box (the poster says "longest axis of the node's box"; the tight box avoids

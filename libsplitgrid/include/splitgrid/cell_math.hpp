@@ -82,7 +82,7 @@ struct CellMath {
 /// cm.locate_highest(upper[i]). Four at a time where the guesses and their corrections run as
 /// one vector each (SSE2, part of every x86-64 target), with the same float operations lane by
 /// lane, so the same cells; the builder locates every triangle of a node this way
-/// (docs/BENCH.md, "Locating four triangles at once").
+/// (docs/notebook/build.md, "Locating four triangles at once").
 void locate_cells(const CellMath& cm, const float* lower, const float* upper, std::size_t count,
                   std::uint32_t* first, std::uint32_t* last) noexcept;
 

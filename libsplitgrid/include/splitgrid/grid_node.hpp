@@ -28,11 +28,11 @@ inline constexpr std::uint32_t max_cell_index = (1u << 30) - 1u;
 /// A leaf's words end at the reference marked last (leaf_words.hpp), so the cell needs no
 /// count. The poster does not give a cell layout; this one keeps a leaf's references
 /// contiguous, so a leaf costs one 4-byte read plus its references, and makes a node's cells
-/// half the size of an (index, count) pair: on the Stanford bunny the cells went from 13.0 to
-/// 6.5 bytes per triangle.
+/// half the size of an (index, count) pair (docs/SPLIT_GRID.md, "Records").
 /// The two inner kinds tell the walk which way a child node is entered (docs/SPLIT_GRID.md,
 /// "Traversal") from the word it already holds, before the child's record arrives from memory
-/// (docs/BENCH.md).
+/// (docs/notebook/layout.md, "An inner cell that says how its child is entered (format
+/// version 4)").
 class CellRef {
 public:
     [[nodiscard]] static constexpr CellRef make_empty() noexcept { return {}; }
@@ -122,9 +122,10 @@ static_assert(std::is_trivially_copyable_v<CellRef>, "CellRef is stored in .sg f
 ///
 /// Differences from the poster: the node does not store the cell width; it is recomputed
 /// from lo, hi and N by cell_math.hpp, the one place both builder and traverser use. A
-/// one-cell node (a bounding node, docs/SPLIT_GRID.md; half of the dragon's nodes) keeps its
-/// cell in the record, so the walk reads it with the planes instead of from a second array,
-/// and the cell costs no 4 bytes of its own (docs/BENCH.md).
+/// one-cell node (a bounding node, docs/SPLIT_GRID.md; most of the nodes of a default build)
+/// keeps its cell in the record, so the walk reads it with the planes instead of from a second
+/// array, and the cell costs no 4 bytes of its own (docs/notebook/layout.md, "Lever 5, first
+/// part: a one-cell node's cell in its record (format version 3)").
 class GridNode {
 public:
     float lo = 0.0f;

@@ -27,10 +27,10 @@ inline constexpr std::uint32_t max_referenced_triangle = (1u << 30) - 1u;
 ///
 /// A leaf is narrow exactly when its ids span less than 2^15, so the encoding of a list of ids
 /// is unique (files are byte-identical for any thread count). A wide head never has the last bit:
-/// a one-reference leaf is narrow. On the builder's leaves of ten references on average, the
-/// words halve what the references cost: 99% of the dragon's leaves are narrow, 73% of the BMW
-/// M6's (docs/BENCH.md). The walk reads a narrow leaf's head pair, then the head's upper word and
-/// the next seven words with one 16-byte load.
+/// a one-reference leaf is narrow. Most of the builder's leaves are narrow, so the words about
+/// halve what the references cost (docs/notebook/layout.md, "A leaf's references in 16-bit
+/// words (format version 5, kept)"). The walk reads a narrow leaf's head pair, then the head's
+/// upper word and the next seven words with one 16-byte load.
 namespace leaf_code {
 inline constexpr std::uint32_t id_mask = max_referenced_triangle;
 inline constexpr std::uint32_t wide_bit = 1u << 30;

@@ -1,8 +1,18 @@
 #pragma once
 
+/// The Split Grid's ray queries: closest hit, any hit, and every hit along rays.
+///
+/// The walk itself is SplitGridWalk in libsplitgrid/src/kernels/split_grid_walk.hpp
+/// (docs/SPLIT_GRID.md, "Traversal", has it as pseudo-code). These functions reach it through
+/// detail::closest_hits, detail::any_hits, ... (structure_queries.hpp), which
+/// src/kernels/dispatch.cpp routes to the table of the active instruction set; each
+/// kernels_<isa>.cpp compiles the walk for its instruction set through kernels_isa.inc.
+/// docs/ARCHITECTURE.md lists the traversal's files in reading order.
+
 #include <cstdint>
 #include <span>
 
+#include "splitgrid/brute_force.hpp"
 #include "splitgrid/intersections.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/query.hpp"
@@ -81,11 +91,5 @@ inline void list_intersections(const SplitGrid& grid, const MeshView& mesh,
 {
     detail::all_hits(grid, mesh, rays, out);
 }
-
-/// Reference answer: tests every triangle of the mesh in id order with the same watertight
-/// test, in plain scalar code independent of the traversal kernels. O(triangles) per ray: for
-/// tests and the benchmark's correctness checks.
-[[nodiscard]] Hit intersect_brute_force(const MeshView& mesh, const Ray& ray) noexcept;
-[[nodiscard]] bool occluded_brute_force(const MeshView& mesh, const Ray& ray) noexcept;
 
 }  // namespace sg

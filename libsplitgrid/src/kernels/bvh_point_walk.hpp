@@ -1,6 +1,6 @@
 #pragma once
 
-// Traversal kernels: the BVH's closest point search (baselines/bvh.hpp).
+// Traversal kernels, part 11: the BVH's closest point search (baselines/bvh.hpp).
 
 #ifndef SG_KERNEL_ISA
 #error "kernel headers are included by kernels_isa.inc only"

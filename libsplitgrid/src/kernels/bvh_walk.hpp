@@ -30,7 +30,8 @@ namespace sg::kernels::SG_KERNEL_ISA {
 /// the plane the ray meets first on each axis is known from the direction's sign, so a box
 /// costs 18 operations (six multiplies, six adds, six min/max) instead of 30 (six
 /// subtractions and six multiplies for both crossings, six min/max to order them, six to
-/// widen them and six to narrow the interval; docs/BENCH.md, "The BVH's box test").
+/// widen them and six to narrow the interval; docs/notebook/trace.md, "The BVH's box test:
+/// planes chosen by the ray's signs, the allowance folded in").
 /// The product form rounds differently from (p - o) * (1 / d): below
 /// 5u (M + |o|) / |d| in all, inside the allowance of 64u (docs/SPLIT_GRID.md derives it).
 /// An axis where that bound could overflow ((M + |o|) / |d| >= 2^124, KernelRay::extreme),
@@ -41,8 +42,8 @@ struct BoxRay {
     float near_offset[3];  ///< added to the product of the plane met first
     float far_offset[3];   ///< added to the product of the plane met last
     /// Byte offsets in an Aabb of the planes met first and last on each axis: the choice is
-    /// then an address, not a select, which GCC compiled as branches on the ray's signs (7
-    /// more mispredicted branches per incoherent ray on the bunny, cachegrind).
+    /// then an address, not a select, which GCC compiled as branches on the ray's signs, each
+    /// a coin toss on incoherent rays (docs/notebook/trace.md, "The BVH's box test").
     std::uint32_t near_plane[3];
     std::uint32_t far_plane[3];
     /// The same choice in a BvhWideNode: byte offsets of its children's planes on each axis.
@@ -94,7 +95,8 @@ struct BoxRay {
 /// Entry parameter of the ray into `box` within [t0, t1], every crossing widened by the
 /// axis's allowance, or +infinity if the ray misses it: the root box's test (the wide nodes'
 /// boxes go through wide_box_entry, which does the same lane by lane). Always inlined: as a
-/// call in the binary walk it cost 3-5% (docs/BENCH.md, "Calls inside the walks").
+/// call in the binary walk it cost time (docs/notebook/trace.md, "Calls inside the walks, and
+/// the BVH's order of children").
 [[nodiscard, gnu::always_inline]] inline float box_entry(const BoxRay& ray, const Aabb& box,
                                                          float t0, float t1) noexcept
 {

@@ -130,10 +130,8 @@ void closest_hits(const Structure& structure, const MeshView& mesh, std::span<co
                   std::span<Hit> hits, TraversalCounters* total, const QueryOptions& options) noexcept
 {
     const auto& k = active_table().load(std::memory_order_relaxed)->template of<Structure>();
-    // The test without the tie-break is offered for counts only (query.hpp).
-    const int test = options.test == TriangleTest::moller_trumbore ? 1 : 0;
-    k.closest[test][static_cast<int>(options.padding)][total != nullptr](
-        structure, mesh, rays, hits, total);
+    k.closest_for(options.test, options.padding, total != nullptr)(structure, mesh, rays, hits,
+                                                                  total);
 }
 
 template <class Structure>
@@ -149,7 +147,7 @@ void count_hits(const Structure& structure, const MeshView& mesh, std::span<cons
                 std::span<std::int32_t> counts, TriangleTest test) noexcept
 {
     const auto& k = active_table().load(std::memory_order_relaxed)->template of<Structure>();
-    k.count[static_cast<int>(test)](structure, mesh, rays, counts);
+    k.count_for(test)(structure, mesh, rays, counts);
 }
 
 template <class Structure>

@@ -1,6 +1,6 @@
 #pragma once
 
-// Traversal kernels, part 2: the bookkeeping of one query (closest or any hit, the work
+// Traversal kernels, part 3: the bookkeeping of one query (closest or any hit, the work
 // counters) and the mailbox of the structures that reference a triangle from several cells.
 
 #ifndef SG_KERNEL_ISA

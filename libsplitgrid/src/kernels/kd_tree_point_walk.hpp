@@ -1,6 +1,6 @@
 #pragma once
 
-// Traversal kernels: the kd-tree's closest point search (baselines/kd_tree.hpp).
+// Traversal kernels, part 12: the kd-tree's closest point search (baselines/kd_tree.hpp).
 
 #ifndef SG_KERNEL_ISA
 #error "kernel headers are included by kernels_isa.inc only"

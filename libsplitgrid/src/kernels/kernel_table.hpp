@@ -4,8 +4,10 @@
 // for each triangle test, padding and counting choice, as compiled for one instruction set
 // (kernels_<isa>.cpp). dispatch.cpp picks the table of the active instruction set.
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 
 #include "splitgrid/baselines/bvh.hpp"
 #include "splitgrid/baselines/kd_tree.hpp"
@@ -46,33 +48,90 @@ using PointKernel = void (*)(const Structure&, const MeshView&, std::span<const 
                              std::span<const std::uint32_t> order, std::span<ClosestPoint> out,
                              float max_distance);
 
+/// The place of each choice in StructureKernels' arrays. The table is filled
+/// (kernels_isa.inc) and read (dispatch.cpp) through these, so a reordered enum cannot make a
+/// query run another test's kernel; a new enumerator makes the switch warn (-Wswitch) until
+/// it has a place, and the table's completeness check fails until it has its kernels.
+/// TriangleTest::watertight_no_tie_break has a place among the counting kernels only: for
+/// closest hits it would change nothing but which of two equal hits is kept (query.hpp).
+inline constexpr std::size_t closest_test_count = 2;
+inline constexpr std::size_t count_test_count = 3;
+inline constexpr std::size_t padding_count = 2;
+[[nodiscard]] constexpr std::size_t kernel_slot(TriangleTest test) noexcept
+{
+    switch (test) {
+    case TriangleTest::watertight:
+        return 0;
+    case TriangleTest::moller_trumbore:
+        return 1;
+    case TriangleTest::watertight_no_tie_break:
+        return 2;
+    }
+    return 0;
+}
+[[nodiscard]] constexpr std::size_t kernel_slot(Padding padding) noexcept
+{
+    switch (padding) {
+    case Padding::conservative:
+        return 0;
+    case Padding::none:
+        return 1;
+    }
+    return 0;
+}
+
 template <class Structure>
 struct StructureKernels {
-    /// [TriangleTest][Padding][counting]; TriangleTest::watertight_no_tie_break is not offered
-    /// for closest hits (it changes nothing but which of two equal hits is kept)
-    ClosestKernel<Structure> closest[2][2][2];
+    /// [kernel_slot(TriangleTest)][kernel_slot(Padding)][counting]
+    ClosestKernel<Structure> closest[closest_test_count][padding_count][2];
     /// [counting]; watertight test, conservative padding
     AnyKernel<Structure> any[2];
-    /// [TriangleTest]; conservative padding
-    CountKernel<Structure> count[3];
+    /// [kernel_slot(TriangleTest)]; conservative padding
+    CountKernel<Structure> count[count_test_count];
     /// watertight test, conservative padding
     AllKernel<Structure> all;
     PointKernel<Structure> closest_point;
+
+    /// The closest-hit kernel of one choice of test, padding and counting;
+    /// watertight_no_tie_break runs the watertight kernel.
+    [[nodiscard]] constexpr ClosestKernel<Structure> closest_for(TriangleTest test,
+                                                                 Padding padding,
+                                                                 bool counting) const noexcept
+    {
+        const std::size_t t = test == TriangleTest::moller_trumbore ? kernel_slot(test) : 0;
+        return closest[t][kernel_slot(padding)][counting ? 1 : 0];
+    }
+    /// The counting kernel of one triangle test.
+    [[nodiscard]] constexpr CountKernel<Structure> count_for(TriangleTest test) const noexcept
+    {
+        return count[kernel_slot(test)];
+    }
+    /// True once every slot holds a kernel.
+    [[nodiscard]] constexpr bool is_complete() const noexcept
+    {
+        for (const auto& by_padding : closest)
+            for (const auto& by_counting : by_padding)
+                for (const auto kernel : by_counting)
+                    if (kernel == nullptr) return false;
+        for (const auto kernel : count)
+            if (kernel == nullptr) return false;
+        return any[0] != nullptr && any[1] != nullptr && all != nullptr &&
+               closest_point != nullptr;
+    }
 };
 
-// The tables are indexed by these enums' values.
-static_assert(static_cast<int>(TriangleTest::watertight) == 0 &&
-                  static_cast<int>(TriangleTest::moller_trumbore) == 1 &&
-                  static_cast<int>(TriangleTest::watertight_no_tie_break) == 2,
-              "StructureKernels::closest and ::count are indexed by TriangleTest");
-static_assert(static_cast<int>(Padding::conservative) == 0 && static_cast<int>(Padding::none) == 1,
-              "StructureKernels::closest is indexed by Padding");
 
 struct KernelTable {
     StructureKernels<SplitGrid> split_grid;
     StructureKernels<Bvh> bvh;
     StructureKernels<KdTree> kd_tree;
     StructureKernels<UniformGrid> uniform_grid;
+
+    [[nodiscard]] constexpr bool is_complete() const noexcept
+    {
+        return split_grid.is_complete() && bvh.is_complete() && kd_tree.is_complete() &&
+               uniform_grid.is_complete();
+    }
 
     template <class Structure>
     [[nodiscard]] const StructureKernels<Structure>& of() const noexcept

@@ -1,5 +1,7 @@
-// The traversal kernels for the x86-64 baseline (SSE2), and for any other processor: the
-// fallback every machine can run.
+// The traversal kernels for the x86-64 baseline (SSE2): the fallback every x86-64 processor can
+// run. They are written with x86 intrinsics (simd.hpp, triangle_test.hpp), so a processor of
+// another kind has no kernels at all; the top-level CMakeLists.txt refuses to configure for one
+// until a scalar path exists.
 #include "kernel_deps.hpp"
 
 // The 8-wide vectors of simd.hpp are passed between inline functions of this file only, so

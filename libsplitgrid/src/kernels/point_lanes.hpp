@@ -1,6 +1,6 @@
 #pragma once
 
-// Traversal kernels: the point queries' triangle test, eight triangles at a time. Each lane
+// Traversal kernels, part 9: the point queries' triangle test, eight triangles at a time. Each lane
 // computes in double exactly what points::closest_on_triangle computes for its distance (the
 // same operations in the same order, no contraction), so a batched walk keeps the same best
 // triangle as a scalar one would, and brute force agrees bit for bit.

@@ -1,6 +1,6 @@
 #pragma once
 
-// Traversal kernels, part 3: 8-wide float and int vectors for the batched triangle test, as
+// Traversal kernels, part 2: 8-wide float and int vectors for the batched triangle test, as
 // GCC vector extensions, so that one source compiles to two SSE2 halves, one AVX2 register or
 // AVX-512 mask operations by the target region it is included in. Only the gathers and the
 // lane mask differ by instruction set (and the triangle test's loads from the mesh:
@@ -72,8 +72,9 @@ typedef std::int64_t vlong __attribute__((vector_size(64)));
 /// Clears the upper halves of the 256- and 512-bit registers (vzeroupper; nothing in the
 /// SSE2 kernels). The batch drivers call it after every walk: GCC does not insert it on every
 /// exit of a walk whose inlined leaf test uses 256-bit registers, and the code compiled
-/// without AVX that runs between two rays then stalls on the dirty registers (it halved the
-/// BVH's speed on primary rays; docs/BENCH.md, "The BVH: eight boxes per step").
+/// without AVX that runs between two rays then stalls on the dirty registers (it cost the BVH
+/// much of its speed on primary rays; docs/notebook/trace.md, "The BVH: eight boxes per
+/// step").
 [[gnu::always_inline]] inline void clear_upper_lanes() noexcept
 {
 #if SG_KERNEL_ISA_LEVEL >= 3

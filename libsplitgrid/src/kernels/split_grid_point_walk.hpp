@@ -1,6 +1,6 @@
 #pragma once
 
-// Traversal kernels: the Split Grid's closest point search (docs/SPLIT_GRID.md, "Closest
+// Traversal kernels, part 10: the Split Grid's closest point search (docs/SPLIT_GRID.md, "Closest
 // points").
 
 #ifndef SG_KERNEL_ISA

@@ -46,12 +46,11 @@ inline constexpr std::size_t grid_stack_size = max_supported_depth + 1;
 /// one multiply by 1 / dt (a division that depends on the node's record only, so it runs
 /// beside the clip instead of after it), no correction loop, and a prefetch of the node's
 /// first cells; per cell: one crossing (a multiply and an add) and two compares; per
-/// non-empty cell, a prefetch of what the node's next cell leads to. Per random ray on the
-/// 871k-triangle dragon (`kernel-cost`, AVX2): 3,134 instructions, 22.5 mispredicted
-/// branches, 25.0 L1 misses, of which the walk (node entries and cells) 1,772 / 18.1 / 11.3
-/// and the batched triangle tests 594 / 1.8 / 8.8 (docs/BENCH.md, "Triangles loaded as rows,
-/// not gathered"). A class rather than lambdas: GCC compiles lambdas without the instruction
-/// set of the target region they are written in.
+/// non-empty cell, a prefetch of what the node's next cell leads to. The instructions,
+/// mispredicted branches and cache misses this costs per ray, walk and triangle tests apart,
+/// are counted in docs/notebook/trace.md, "Triangles loaded as rows, not gathered". A class
+/// rather than lambdas: GCC compiles lambdas without the instruction set of the target region
+/// they are written in.
 template <TriangleTest test, class Search>
 class SplitGridWalk {
 public:
@@ -127,7 +126,8 @@ private:
     // back to that cell only afterwards, if the ray gets that far (an empty cell asks for the
     // first reference). The addresses are computed as integers, since the index of one kind
     // may lie past the end of the other's array. GCC compiles the choice as a branch on the
-    // kind; a mask instead traced 1% slower (docs/BENCH.md).
+    // kind; a mask instead traced slower (docs/notebook/trace.md, "The next cell's target asked
+    // for ahead (prefetch)").
     [[gnu::always_inline]] void prefetch_target(CellRef next) const noexcept
     {
         const std::uintptr_t node = reinterpret_cast<std::uintptr_t>(grid_.nodes.data()) +

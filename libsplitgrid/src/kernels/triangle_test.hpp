@@ -52,9 +52,8 @@ struct MeshArrays {
 /// copy chosen by address, which GCC compiles without a branch), and eight rows become three
 /// vectors in eleven shuffles. The twelve gathers this replaces (three of corner indices, nine
 /// of coordinates) made every leaf visit wait for two gathers in a row. With these loads every
-/// structure traced 1.0-1.2 times as fast, shadow rays 1.1-1.3 times (AMD Zen 3, measured with
-/// a first version that read the last vertex behind a branch; docs/BENCH.md, "Triangles loaded
-/// as rows, not gathered").
+/// structure traced faster, shadow rays most (docs/notebook/trace.md, "Triangles loaded as
+/// rows, not gathered").
 [[gnu::always_inline]] inline void load_corners(const MeshArrays& mesh, vint id,
                                                 vfloat (&corner)[3][3]) noexcept
 {

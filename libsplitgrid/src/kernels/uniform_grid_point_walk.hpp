@@ -1,6 +1,6 @@
 #pragma once
 
-// Traversal kernels: the uniform grid's closest point search (baselines/uniform_grid.hpp).
+// Traversal kernels, part 13: the uniform grid's closest point search (baselines/uniform_grid.hpp).
 
 #ifndef SG_KERNEL_ISA
 #error "kernel headers are included by kernels_isa.inc only"

@@ -46,8 +46,8 @@ enum class ImportIsolation {
     /// Assimp runs in a forked child process with an address-space and a CPU-time limit; the
     /// mesh comes back through a pipe. A crash, abort, timeout or memory exhaustion of the
     /// child becomes an InputError naming the file and the reason. Costs a fork and one copy
-    /// of the mesh through the pipe: 4.7 s instead of 4.3 s for the Stanford dragon's
-    /// 871k-triangle PLY (measured with sg-build on a busy 2-core machine).
+    /// of the mesh through the pipe (docs/HARDENING.md, "13. Hostile mesh files", has the
+    /// figure).
     child_process,
     /// Assimp runs in the calling process: no fork, but a hostile file can take the process
     /// down. For trusted files, or callers that cannot fork (see ImportOptions).
@@ -59,13 +59,14 @@ enum class ImportIsolation {
 struct ImportOptions {
     ImportIsolation isolation = ImportIsolation::child_process;
     /// Wall-clock seconds the child may take (its CPU time is limited to the same figure).
-    /// Range (0, 1e6]. Assimp reads the 871k-triangle dragon PLY in about 4 s, so 300 s leaves
-    /// room for 10^7-triangle scenes on a slow machine.
+    /// Range (0, 1e6]. Assimp reads a scan of a million triangles in seconds (docs/HARDENING.md,
+    /// "13. Hostile mesh files"), so 300 s leaves room for 10^7-triangle scenes on a slow
+    /// machine.
     double time_limit_seconds = 300.0;
     /// Address space the child may add to what it inherits from the parent, in bytes;
-    /// 0 means no limit. A whole sg-build of the 871k-triangle dragon peaks at 330 MB (about
-    /// 380 bytes per triangle), so the default 16 GiB holds 10^7-triangle scenes with room to
-    /// spare. Under AddressSanitizer the limit does not bind as it should (ASan reserves its
+    /// 0 means no limit. A whole sg-build peaks at a few hundred bytes per triangle
+    /// (docs/HARDENING.md, "13. Hostile mesh files"), so the default 16 GiB holds
+    /// 10^7-triangle scenes with room to spare. Under AddressSanitizer the limit does not bind as it should (ASan reserves its
     /// heap address space at start-up), and hitting it aborts the child (a crash message).
     std::uint64_t memory_limit_bytes = std::uint64_t{16} << 30;
 };

@@ -24,7 +24,7 @@ using Json = nlohmann::ordered_json;
 /// key is removed or changes meaning; adding keys keeps the version.
 inline constexpr int json_schema_version = 1;
 
-/// `bytes` divided by `triangles`, or 0 when there are no triangles.
+/// `value` (bytes, references) divided by `triangles`, or 0 when there are no triangles.
 [[nodiscard]] double per_triangle(std::size_t bytes, std::size_t triangles) noexcept;
 
 /// Bytes of a mesh in memory as every structure traces it: 12 per vertex and 12 per triangle.

@@ -40,9 +40,9 @@ struct BvhConfig {
     std::uint32_t max_leaf_size = 8;
     /// Cost of visiting a node, in ray/triangle tests. Range (0, 1e6]. 4 because the
     /// kernels test a leaf's triangles eight at a time, so a triangle of a leaf costs far
-    /// less than a node visit: against 1, it took the BVH from 0.39 to 0.46 of Embree's path
-    /// speed (median of seven scenes) and from 54.7 to 33.8 bytes per triangle; 8 did no
-    /// better (docs/BENCH.md).
+    /// less than a node visit: against 1, it made the BVH faster and smaller, and 8 did no
+    /// better (docs/notebook/trace.md, "A fair BVH: its cost model priced for the 8-wide leaf
+    /// test").
     double traversal_cost = 4.0;
     /// Deepest leaf (root = 0); nodes at this depth become leaves whatever their size.
     /// Range [1, 64]; also bounds the traversal stack.

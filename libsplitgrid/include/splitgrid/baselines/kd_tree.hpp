@@ -32,10 +32,9 @@ inline constexpr std::uint32_t kd_max_supported_depth = 64;
 struct KdTreeConfig {
     /// Cost of one traversal step, relative to intersection_cost. Range (0, 1e6].
     /// Wald and Havran use 15 against 20. With clipped ("perfect") extents that ratio splits
-    /// around shared vertices down to the depth limit: on the Stanford dragon it gives 5.9
-    /// references and 86 bytes per triangle. 3 against 1 traces as fast there (traversal is
-    /// memory-bound) with 2.9 references, 26 bytes per triangle and half the build time
-    /// (docs/BASELINES.md).
+    /// around shared vertices down to the depth limit on scans. 3 against 1 traces as fast
+    /// there (traversal is memory-bound) with a much smaller tree, built faster
+    /// (docs/BASELINES.md, "kd-tree", has the figures).
     double traversal_cost = 3.0;
     /// Cost of one ray/triangle test. Range (0, 1e6].
     double intersection_cost = 1.0;

@@ -25,10 +25,9 @@ namespace sg {
 /// recomputed over the other axes (square root, or the extent itself), so flat scenes are
 /// not cut into slivers. The product is then capped at max_cells.
 struct UniformGridConfig {
-    /// Cells per triangle (lambda). Range (0, 1e4]. 4 measured here (docs/BASELINES.md):
-    /// on the Stanford dragon lambda 2 and 4 trace equally fast and 8 is slower, on the
-    /// Sponza part trace speed rises by 10-15% per doubling up to 8; 4 costs about 25 bytes
-    /// per triangle on the dragon, 8 about 43.
+    /// Cells per triangle (lambda). Range (0, 1e4]. 4, the usual choice: on scans a denser
+    /// grid traces no faster and costs memory, on an architectural scene speed still rises
+    /// with the density up to 8 (docs/BASELINES.md, "Uniform grid", has the memory).
     double density = 4.0;
     /// Most cells in total (each costs a 4-byte offset). Range [1, 2^30]. 2^26 cells = 256 MiB
     /// of offsets; the rule reaches it at 16.7 million triangles with the default density.

@@ -1,4 +1,6 @@
-#include "splitgrid/traverse.hpp"
+// The reference answers of brute_force.hpp: every triangle, in id order, in plain scalar code
+// that shares nothing with the traversal kernels but the watertight test itself.
+#include "splitgrid/brute_force.hpp"
 
 #include <cmath>
 #include <limits>
