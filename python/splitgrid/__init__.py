@@ -14,8 +14,12 @@ The package:
 
 - ``build(vertices, triangles, *, preset, threads, **params)`` and ``load(path)``
   make a ``SplitGrid``; ``SplitGrid.save(path)`` writes a ``.sg`` file.
-- ``SplitGrid.cast_rays`` and ``SplitGrid.test_occlusions`` answer rays of any
-  leading shape ``(..., 6)``; ``create_rays_pinhole`` makes a camera's rays.
+- ``SplitGrid.cast_rays``, ``test_occlusions``, ``count_intersections`` and
+  ``list_intersections`` answer rays of any leading shape ``(..., 6)``;
+  ``create_rays_pinhole`` makes a camera's rays.
+- ``SplitGrid.compute_closest_points``, ``compute_distance``,
+  ``compute_signed_distance`` and ``compute_occupancy`` answer points
+  ``(..., 3)``; the side of a point is exact, never a vote.
 - ``import_mesh(path)`` reads any mesh file as ``sg-build`` reads it.
 - ``RaycastingScene`` runs code written for Open3D's class unchanged.
 - ``splitgrid.dask`` (imported on its own) traces dask arrays of rays on a

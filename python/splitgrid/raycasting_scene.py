@@ -100,12 +100,7 @@ class RaycastingScene:
                       "primitive_normals": np.zeros(shape + (3,), np.float32)}
         else:
             result = grid.cast_rays(plain, threads=nthreads)
-        ids = result["primitive_ids"]
-        hit = ids != INVALID_ID
-        geometry = np.full(ids.shape, INVALID_ID, dtype=np.uint32)
-        geometry[hit] = np.searchsorted(self._first_triangle, ids[hit], side="right") - 1
-        ids[hit] -= self._first_triangle[geometry[hit]].astype(np.uint32)
-        result["geometry_ids"] = geometry
+        result["geometry_ids"] = self._geometry_of(result["primitive_ids"])
         return {key: _like(rays, value) for key, value in result.items()}
 
     def test_occlusions(self, rays, tnear=0.0, tfar=np.inf, nthreads=0):
@@ -116,5 +111,77 @@ class RaycastingScene:
         if grid is None:
             return _like(rays, np.zeros(plain.shape[:-1], dtype=bool))
         return _like(rays, grid.test_occlusions(plain, tnear=tnear, tfar=tfar, threads=nthreads))
+
+    def _geometry_of(self, ids):
+        """Geometry ids of the triangle ids `ids` (modified in place to count within their
+        geometry), INVALID_ID where there is none."""
+        hit = ids != INVALID_ID
+        geometry = np.full(ids.shape, INVALID_ID, dtype=np.uint32)
+        geometry[hit] = np.searchsorted(self._first_triangle, ids[hit], side="right") - 1
+        ids[hit] -= self._first_triangle[geometry[hit]].astype(np.uint32)
+        return geometry
+
+    def count_intersections(self, rays, nthreads=0):
+        """The number of triangles each ray crosses (int32, the rays' leading shape);
+        SplitGrid.count_intersections, exact at shared edges and vertices."""
+        plain = _numpy(rays)
+        grid = self._scene()
+        if grid is None:
+            return _like(rays, np.zeros(plain.shape[:-1], dtype=np.int32))
+        return _like(rays, grid.count_intersections(plain, threads=nthreads))
+
+    def list_intersections(self, rays, nthreads=0):
+        """Every hit of every ray: ray_splits, ray_ids, geometry_ids, primitive_ids,
+        primitive_uvs and t_hit (SplitGrid.list_intersections, plus each hit's geometry)."""
+        plain = _numpy(rays)
+        grid = self._scene()
+        if grid is None:
+            count = int(np.prod(plain.shape[:-1]))
+            result = {"ray_splits": np.zeros(count + 1, np.int64),
+                      "ray_ids": np.zeros(0, np.uint32), "t_hit": np.zeros(0, np.float32),
+                      "primitive_ids": np.zeros(0, np.uint32),
+                      "primitive_uvs": np.zeros((0, 2), np.float32)}
+        else:
+            result = grid.list_intersections(plain, threads=nthreads)
+        result["geometry_ids"] = self._geometry_of(result["primitive_ids"])
+        return {key: _like(rays, value) for key, value in result.items()}
+
+    def _points_query(self, query_points, answer, empty):
+        plain = _numpy(query_points)
+        grid = self._scene()
+        if grid is None:
+            return _like(query_points, np.full(plain.shape[:-1], empty, dtype=np.float32))
+        return _like(query_points, answer(grid, plain))
+
+    def compute_closest_points(self, query_points, nthreads=0):
+        """The closest point on the scene to each point: points, geometry_ids,
+        primitive_ids, primitive_uvs, primitive_normals (SplitGrid.compute_closest_points)."""
+        plain = _numpy(query_points)
+        grid = self._scene()
+        if grid is None:
+            raise ValueError("compute_closest_points: the scene has no triangles")
+        result = grid.compute_closest_points(plain, threads=nthreads)
+        result["geometry_ids"] = self._geometry_of(result["primitive_ids"])
+        return {key: _like(query_points, value) for key, value in result.items()}
+
+    def compute_distance(self, query_points, nthreads=0):
+        """The distance from each point to the scene (float32; inf for an empty scene)."""
+        return self._points_query(query_points,
+                                  lambda g, p: g.compute_distance(p, threads=nthreads), np.inf)
+
+    def compute_signed_distance(self, query_points, nthreads=0, nsamples=1):
+        """The distance, negative inside the closed scene; the side is exact
+        (SplitGrid.compute_signed_distance)."""
+        return self._points_query(
+            query_points,
+            lambda g, p: g.compute_signed_distance(p, nsamples=nsamples, threads=nthreads),
+            np.inf)
+
+    def compute_occupancy(self, query_points, nthreads=0, nsamples=1):
+        """1.0 inside the closed scene, 0.0 outside (float32); exact
+        (SplitGrid.compute_occupancy)."""
+        return self._points_query(
+            query_points,
+            lambda g, p: g.compute_occupancy(p, nsamples=nsamples, threads=nthreads), 0.0)
 
     create_rays_pinhole = staticmethod(create_rays_pinhole)

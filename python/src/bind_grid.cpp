@@ -5,6 +5,7 @@
 
 #include "grid_object.hpp"
 #include "mesh_arrays.hpp"
+#include "point_queries.hpp"
 #include "ray_queries.hpp"
 #include "splitgrid/formats/stats_json.hpp"
 
@@ -162,6 +163,7 @@ void bind_grid(py::module_& m)
                    " structure bytes>";
         });
     bind_ray_queries(grid_class);
+    bind_point_queries(grid_class);
 
     m.def(
         "build",

@@ -9,7 +9,8 @@ namespace sg::python {
 namespace py = pybind11;
 
 /// Adds the ray queries to the SplitGrid class, under Open3D's RaycastingScene names and
-/// shapes: cast_rays (closest hit) and test_occlusions (any hit).
+/// shapes: cast_rays (closest hit), test_occlusions (any hit), count_intersections and
+/// list_intersections (every hit).
 void bind_ray_queries(py::class_<GridObject>& grid_class);
 
 }  // namespace sg::python

@@ -34,20 +34,24 @@ def _intersections(origins, directions, v0, e1, e2):
     return t, u, v
 
 
+def _prepared(vertices, triangles, rays, tnear, tfar):
+    """Rays (n, 6), tnear and tfar (n,) and each triangle's corner and edges, in float64."""
+    vertices = np.asarray(vertices, dtype=np.float64)
+    triangles = np.asarray(triangles, dtype=np.int64)
+    rays = np.asarray(rays, dtype=np.float64).reshape(-1, 6)
+    tnear = np.broadcast_to(np.asarray(tnear, dtype=np.float64), (len(rays),))
+    tfar = np.broadcast_to(np.asarray(tfar, dtype=np.float64), (len(rays),))
+    v0 = vertices[triangles[:, 0]]
+    return rays, tnear, tfar, v0, vertices[triangles[:, 1]] - v0, vertices[triangles[:, 2]] - v0
+
+
 def closest_hits(vertices, triangles, rays, tnear=0.0, tfar=np.inf, margin=MARGIN,
                  t_tolerance=T_TOLERANCE, batch_pairs=4_000_000):
     """Bounds of the closest hit of each ray of `rays` (n, 6): a dict of float64 arrays
     `t_loose` and `t_strict` (inf where there is none) and `id_strict`, the triangle of the
     strict closest hit (-1 for none)."""
-    vertices = np.asarray(vertices, dtype=np.float64)
-    triangles = np.asarray(triangles, dtype=np.int64)
-    rays = np.asarray(rays, dtype=np.float64).reshape(-1, 6)
+    rays, tnear, tfar, v0, e1, e2 = _prepared(vertices, triangles, rays, tnear, tfar)
     n = len(rays)
-    tnear = np.broadcast_to(np.asarray(tnear, dtype=np.float64), (n,))
-    tfar = np.broadcast_to(np.asarray(tfar, dtype=np.float64), (n,))
-    v0 = vertices[triangles[:, 0]]
-    e1 = vertices[triangles[:, 1]] - v0
-    e2 = vertices[triangles[:, 2]] - v0
     t_loose = np.full(n, np.inf)
     t_strict = np.full(n, np.inf)
     id_strict = np.full(n, -1)
@@ -147,3 +151,85 @@ def check_occlusions(vertices, triangles, rays, occluded, tnear=0.0, tfar=np.inf
     assert not lost.any(), f"{lost.sum()} occluded rays answered False"
     assert not invented.any(), f"{invented.sum()} free rays answered True"
     return int(occluded.sum())
+
+
+def all_hits(vertices, triangles, rays, tnear=0.0, tfar=np.inf, margin=MARGIN,
+             t_tolerance=T_TOLERANCE):
+    """For each ray of `rays` (n, 6), two sets of triangle ids: those it surely crosses
+    (inside the shrunk triangles and window) and those it may cross (inside the grown ones).
+    A right list holds every sure one and only possible ones."""
+    rays, tnear, tfar, v0, e1, e2 = _prepared(vertices, triangles, rays, tnear, tfar)
+    n = len(rays)
+    t, u, v = _intersections(rays[:, :3], rays[:, 3:], v0, e1, e2)
+    scale = np.maximum(1.0, np.abs(t))
+    with np.errstate(invalid="ignore"):
+        loose = ((u >= -margin) & (v >= -margin) & (u + v <= 1 + margin)
+                 & (t >= tnear[:, None] - t_tolerance * scale)
+                 & (t <= tfar[:, None] + t_tolerance * scale))
+        sure = ((u >= margin) & (v >= margin) & (u + v <= 1 - margin)
+                & (t >= tnear[:, None] + t_tolerance * scale)
+                & (t <= tfar[:, None] - t_tolerance * scale))
+    return ([set(np.flatnonzero(row)) for row in sure],
+            [set(np.flatnonzero(row)) for row in loose], t)
+
+
+def _segment_distance2(p, a, b):
+    """Squared distance from points p (P, 1, 3) to segments a-b (1, T, 3)."""
+    ab = b - a
+    length2 = np.einsum("...k,...k->...", ab, ab)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.clip(np.einsum("...k,...k->...", p - a, ab) / length2, 0.0, 1.0)
+    s = np.where(length2 > 0, s, 0.0)
+    d = p - (a + s[..., None] * ab)
+    return np.einsum("...k,...k->...", d, d)
+
+
+def point_distances(vertices, triangles, points, batch_pairs=2_000_000):
+    """The distance (float64) from each point of `points` (n, 3) to its closest triangle, and
+    the set of triangles within a relative 1e-9 of that distance: brute force over every
+    triangle, the plane where the projection falls inside, else the nearest edge."""
+    vertices = np.asarray(vertices, dtype=np.float64)
+    triangles = np.asarray(triangles, dtype=np.int64)
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    a = vertices[triangles[:, 0]][None]
+    b = vertices[triangles[:, 1]][None]
+    c = vertices[triangles[:, 2]][None]
+    normal = np.cross(b - a, c - a)
+    area2 = np.einsum("...k,...k->...", normal, normal)
+    best = np.empty(len(points))
+    nearest = []
+    per_batch = max(1, batch_pairs // max(1, len(triangles)))
+    for start in range(0, len(points), per_batch):
+        p = points[start:start + per_batch, None, :]
+        d2 = np.minimum(np.minimum(_segment_distance2(p, a, b), _segment_distance2(p, b, c)),
+                        _segment_distance2(p, c, a))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # Barycentrics of p's projection: inside when all three sub-areas agree in sign.
+            w_a = np.einsum("...k,...k->...", np.cross(c - b, p - b), normal) / area2
+            w_b = np.einsum("...k,...k->...", np.cross(a - c, p - c), normal) / area2
+            height = np.einsum("...k,...k->...", p - a, normal) ** 2 / area2
+        inside = (area2 > 0) & (w_a >= 0) & (w_b >= 0) & (w_a + w_b <= 1)
+        d2 = np.where(inside, np.minimum(height, d2), d2)
+        d = np.sqrt(d2)
+        row_best = d.min(axis=1)
+        best[start:start + per_batch] = row_best
+        nearest += [set(np.flatnonzero(row <= m * (1 + 1e-9) + 1e-12))
+                    for row, m in zip(d, row_best)]
+    return best, nearest
+
+
+def winding_numbers(vertices, triangles, points):
+    """The generalised winding number of a closed, consistently wound mesh around each point
+    (Van Oosterom and Strackee's solid angle per triangle, float64): 1 inside, 0 outside for
+    an outward mesh, away from the surface."""
+    vertices = np.asarray(vertices, dtype=np.float64)
+    triangles = np.asarray(triangles, dtype=np.int64)
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    a = vertices[triangles[:, 0]][None] - points[:, None]
+    b = vertices[triangles[:, 1]][None] - points[:, None]
+    c = vertices[triangles[:, 2]][None] - points[:, None]
+    la, lb, lc = (np.linalg.norm(x, axis=-1) for x in (a, b, c))
+    numerator = np.einsum("...k,...k->...", a, np.cross(b, c))
+    denominator = (la * lb * lc + np.einsum("...k,...k->...", a, b) * lc
+                   + np.einsum("...k,...k->...", b, c) * la + np.einsum("...k,...k->...", c, a) * lb)
+    return (2 * np.arctan2(numerator, denominator)).sum(axis=1) / (4 * np.pi)

@@ -106,3 +106,45 @@ def test_an_empty_scene_answers_misses():
     scene = splitgrid.RaycastingScene()
     ans = scene.cast_rays(np.array([[0, 0, 0, 1, 0, 0]], np.float32))
     assert np.isinf(ans["t_hit"][0]) and ans["geometry_ids"][0] == splitgrid.INVALID_ID
+
+
+def test_open3ds_counting_and_point_examples_run_unchanged():
+    """Open3D's documented count_intersections example (rays into its unit box), and its
+    point queries, with only the class replaced."""
+    cube = o3d.t.geometry.TriangleMesh.from_legacy(o3d.geometry.TriangleMesh.create_box())
+    scene = splitgrid.RaycastingScene()
+    scene.add_triangles(cube)
+    rays = o3d.core.Tensor([[0.5, 0.5, -1, 0, 0, 1], [0.5, 0.5, 0.5, 0, 0, 1],
+                            [10, 10, 10, 1, 0, 0]], dtype=o3d.core.Dtype.Float32)
+    np.testing.assert_array_equal(scene.count_intersections(rays).numpy(), [2, 1, 0])
+    listed = scene.list_intersections(rays)
+    np.testing.assert_array_equal(listed["ray_splits"].numpy(), [0, 2, 3, 3])
+    np.testing.assert_allclose(listed["t_hit"].numpy(), [1.0, 2.0, 0.5])
+    query = o3d.core.Tensor([[0.5, 0.5, 0.5], [2.0, 0.5, 0.5]], dtype=o3d.core.Dtype.Float32)
+    np.testing.assert_allclose(scene.compute_distance(query).numpy(), [0.5, 1.0])
+    np.testing.assert_allclose(scene.compute_signed_distance(query).numpy(), [-0.5, 1.0])
+    np.testing.assert_array_equal(scene.compute_occupancy(query).numpy(), [1.0, 0.0])
+    closest = scene.compute_closest_points(query)
+    np.testing.assert_allclose(closest["points"].numpy()[1], [1.0, 0.5, 0.5])
+    np.testing.assert_array_equal(closest["geometry_ids"].numpy(), [0, 0])
+
+
+def test_distances_agree_with_open3ds():
+    """Open3D 0.16's closest point query works on Debian 12: a second, independent answer."""
+    vertices, triangles = sphere(rings=24, segments=48)
+    vertices = vertices.astype(np.float32)
+    theirs = o3d.t.geometry.RaycastingScene()
+    theirs.add_triangles(o3d.core.Tensor(vertices), o3d.core.Tensor(triangles.astype(np.uint32)))
+    grid = splitgrid.build(vertices, triangles)
+    points = np.random.default_rng(4).uniform(-2, 2, size=(3000, 3)).astype(np.float32)
+    expected = theirs.compute_distance(o3d.core.Tensor(points)).numpy()
+    np.testing.assert_allclose(grid.compute_distance(points), expected, rtol=1e-5, atol=1e-6)
+    closest = theirs.compute_closest_points(o3d.core.Tensor(points))["points"].numpy()
+    ours = grid.compute_closest_points(points)["points"]
+    # Where two triangles are equally near, the two may pick different points at the same
+    # distance (ours: the smallest triangle id).
+    differ = np.abs(ours - closest).max(axis=1) > 1e-5
+    assert differ.mean() < 0.01
+    np.testing.assert_allclose(np.linalg.norm(ours[differ] - points[differ], axis=1),
+                               np.linalg.norm(closest[differ] - points[differ], axis=1),
+                               rtol=1e-5)
