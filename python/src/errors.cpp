@@ -13,6 +13,7 @@ namespace {
 PyObject* format_error = nullptr;
 PyObject* invalid_ray_warning = nullptr;
 PyObject* mesh_import_warning = nullptr;
+PyObject* open_mesh_warning = nullptr;
 
 PyObject* new_class(py::module_& m, const char* name, PyObject* base, const char* doc)
 {
@@ -47,6 +48,12 @@ void bind_errors(py::module_& m)
         "import_mesh() skipped or dropped part of a file (points, lines, zero-area or "
         "non-finite triangles), or the file looks misread. One warning per finding, as "
         "sg-build logs them.");
+    open_mesh_warning = new_class(
+        m, "OpenMeshWarning", PyExc_UserWarning,
+        "compute_occupancy() or compute_signed_distance() on a mesh that is not closed: some "
+        "edge is shared by an odd number of triangles, so inside and outside by parity are not "
+        "defined everywhere. The message counts the open and non-manifold edges; "
+        "SplitGrid.stats()['edges'] has them too.");
 
     py::register_exception_translator([](std::exception_ptr error) {
         try {
@@ -66,5 +73,7 @@ void bind_errors(py::module_& m)
 void warn_invalid_rays(const std::string& message) { warn(invalid_ray_warning, message); }
 
 void warn_mesh_import(const std::string& message) { warn(mesh_import_warning, message); }
+
+void warn_open_mesh(const std::string& message) { warn(open_mesh_warning, message); }
 
 }  // namespace sg::python

@@ -14,7 +14,8 @@ namespace py = pybind11;
 /// - sg::InputError, sg::ConfigError -> ValueError (unusable mesh or rays, a parameter out of
 ///   range);
 /// - sg::IoError -> OSError (a missing or unreadable file);
-/// - splitgrid.InvalidRayWarning and splitgrid.MeshImportWarning, both UserWarnings.
+/// - splitgrid.InvalidRayWarning, splitgrid.MeshImportWarning and splitgrid.OpenMeshWarning,
+///   all UserWarnings.
 void bind_errors(py::module_& m);
 
 /// Issues `message` as a splitgrid.InvalidRayWarning. Throws py::error_already_set when the
@@ -23,5 +24,8 @@ void warn_invalid_rays(const std::string& message);
 
 /// Issues `message` as a splitgrid.MeshImportWarning, like warn_invalid_rays.
 void warn_mesh_import(const std::string& message);
+
+/// Issues `message` as a splitgrid.OpenMeshWarning, like warn_invalid_rays.
+void warn_open_mesh(const std::string& message);
 
 }  // namespace sg::python

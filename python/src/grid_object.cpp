@@ -3,10 +3,12 @@
 #include <chrono>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <utility>
 
 #include "batch_query.hpp"
+#include "errors.hpp"
 #include "numpy_arguments.hpp"
 #include "splitgrid/builder.hpp"
 #include "splitgrid/error.hpp"
@@ -118,13 +120,30 @@ std::unique_ptr<GridObject> load_grid(const std::filesystem::path& path)
     return object;
 }
 
+void warn_if_open(const GridObject& grid, const char* query)
+{
+    const EdgeReport* edges = nullptr;
+    {
+        const py::gil_scoped_release release;
+        edges = &grid.edges();
+    }
+    if (edges->is_closed()) return;
+    warn_open_mesh(std::string(query) + ": the mesh is not closed: " +
+                   std::to_string(edges->open_edges) +
+                   " open edges (shared by an odd number of triangles) and " +
+                   std::to_string(edges->nonmanifold_edges) + " non-manifold edges of " +
+                   std::to_string(edges->edges) +
+                   "; inside and outside may be wrong near the openings (nsamples above 1 takes "
+                   "the majority of more rays)");
+}
+
 py::dict grid_stats(const GridObject& grid)
 {
     Json document;
     {
         const py::gil_scoped_release release;
         const GridStats stats = compute_stats(grid.grid());
-        document = sg_stats_json(grid.contents, stats, edge_report(grid.contents.mesh.view()),
+        document = sg_stats_json(grid.contents, stats, grid.edges(),
                                  grid.file ? &*grid.file : nullptr, false);
     }
     return py::dict(to_python(document));

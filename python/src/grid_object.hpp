@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -9,6 +10,7 @@
 #include "splitgrid/formats/sg_file.hpp"
 #include "splitgrid/formats/stats_json.hpp"
 #include "splitgrid/mesh.hpp"
+#include "splitgrid/mesh_edges.hpp"
 
 #include <pybind11/pybind11.h>
 
@@ -25,7 +27,24 @@ struct GridObject {
 
     [[nodiscard]] MeshView mesh() const noexcept { return contents.mesh.view(); }
     [[nodiscard]] const SplitGrid& grid() const noexcept { return contents.grid; }
+
+    /// The mesh's edge report, computed at the first call (a pass over the mesh that a grid
+    /// only ray-traced never needs), then kept. Thread-safe; call without the GIL.
+    [[nodiscard]] const EdgeReport& edges() const
+    {
+        std::call_once(edges_once_, [this] { edges_ = edge_report(mesh()); });
+        return edges_;
+    }
+
+private:
+    mutable std::once_flag edges_once_;
+    mutable EdgeReport edges_;
 };
+
+/// Issues one splitgrid.OpenMeshWarning when `grid`'s mesh is not closed (some edge is shared
+/// by an odd number of triangles): inside and outside by parity are then not defined
+/// everywhere. `query` names the query in the message. Needs the GIL.
+void warn_if_open(const GridObject& grid, const char* query);
 
 /// The build parameters of splitgrid.build(): `preset` (build_preset_names), then every entry
 /// of `params` by its build_config_fields name (a switch takes a bool, a count a whole number,

@@ -185,6 +185,7 @@ py::array_t<float> compute_signed_distance(const GridObject& grid, const py::obj
     const std::uint32_t samples = sample_count(nsamples);
     const float limit = distance_limit(max_distance);
     const int thread_limit = thread_count(threads);
+    warn_if_open(grid, "compute_signed_distance");
     return each_point_value(grid, batch, thread_limit,
                             [&](const MeshView& mesh, std::span<const Vec3f> chunk,
                                 std::span<float> answers) {
@@ -198,6 +199,7 @@ py::array_t<float> compute_occupancy(const GridObject& grid, const py::object& p
     PointBatch batch(points);
     const std::uint32_t samples = sample_count(nsamples);
     const int thread_limit = thread_count(threads);
+    warn_if_open(grid, "compute_occupancy");
     return each_point_value(grid, batch, thread_limit,
                             [&](const MeshView& mesh, std::span<const Vec3f> chunk,
                                 std::span<float> answers) {
@@ -281,6 +283,11 @@ threads : int or None, optional
 Returns
 -------
 numpy.ndarray of float32, shape (...)
+
+Warns
+-----
+OpenMeshWarning
+    Once per call when the mesh is not closed.
 )doc";
 
 constexpr const char* compute_occupancy_doc =
@@ -308,6 +315,12 @@ Returns
 numpy.ndarray of float32, shape (...)
     1.0 inside, 0.0 outside, NaN for a point with a NaN or infinite
     coordinate.
+
+Warns
+-----
+OpenMeshWarning
+    Once per call when the mesh is not closed, counting its open and
+    non-manifold edges.
 )doc";
 
 }  // namespace

@@ -253,3 +253,20 @@ def test_invalid_rays_count_nothing_and_warn(ball):
         assert grid.count_intersections(rays).tolist() == [2, 0]
     with pytest.warns(splitgrid.InvalidRayWarning):
         assert grid.list_intersections(rays)["ray_splits"].tolist() == [0, 2, 2]
+
+
+def test_an_open_mesh_warns_once_per_side_query_and_a_closed_one_does_not(ball):
+    import warnings
+    vertices, triangles, grid = ball
+    points = np.zeros((3, 3), dtype=np.float32)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        grid.compute_occupancy(points)
+        grid.compute_signed_distance(points)
+    half = splitgrid.build(vertices, triangles[: len(triangles) // 2])  # a bowl: open edges
+    expected = half.stats()["edges"]["open_edges"]
+    assert expected > 0
+    for query in (half.compute_occupancy, half.compute_signed_distance):
+        with pytest.warns(splitgrid.OpenMeshWarning, match=f"{expected} open edges") as caught:
+            query(points)
+        assert len(caught) == 1
