@@ -91,6 +91,43 @@ struct StructureKernels {
     /// watertight test, conservative padding
     AllKernel<Structure> all;
     PointKernel<Structure> closest_point;
+    /// One bit per slot, set by the setters below as kernels_isa.inc fills the table. The
+    /// completeness check reads these bits instead of comparing kernel addresses with null,
+    /// which sanitizer builds do not allow in a constant expression.
+    std::uint32_t filled = 0;
+
+    static constexpr std::size_t closest_slots = closest_test_count * padding_count * 2;
+    static constexpr std::size_t slot_count = closest_slots + 2 + count_test_count + 2;
+
+    constexpr void set_closest(TriangleTest test, Padding padding, bool counting,
+                               ClosestKernel<Structure> kernel) noexcept
+    {
+        const std::size_t t = kernel_slot(test);
+        const std::size_t p = kernel_slot(padding);
+        const std::size_t c = counting ? 1 : 0;
+        closest[t][p][c] = kernel;
+        mark((t * padding_count + p) * 2 + c);
+    }
+    constexpr void set_any(bool counting, AnyKernel<Structure> kernel) noexcept
+    {
+        any[counting ? 1 : 0] = kernel;
+        mark(closest_slots + (counting ? 1 : 0));
+    }
+    constexpr void set_count(TriangleTest test, CountKernel<Structure> kernel) noexcept
+    {
+        count[kernel_slot(test)] = kernel;
+        mark(closest_slots + 2 + kernel_slot(test));
+    }
+    constexpr void set_all(AllKernel<Structure> kernel) noexcept
+    {
+        all = kernel;
+        mark(closest_slots + 2 + count_test_count);
+    }
+    constexpr void set_closest_point(PointKernel<Structure> kernel) noexcept
+    {
+        closest_point = kernel;
+        mark(closest_slots + 3 + count_test_count);
+    }
 
     /// The closest-hit kernel of one choice of test, padding and counting;
     /// watertight_no_tie_break runs the watertight kernel.
@@ -106,20 +143,15 @@ struct StructureKernels {
     {
         return count[kernel_slot(test)];
     }
-    /// True once every slot holds a kernel.
+    /// True once every slot has been set.
     [[nodiscard]] constexpr bool is_complete() const noexcept
     {
-        for (const auto& by_padding : closest)
-            for (const auto& by_counting : by_padding)
-                for (const auto kernel : by_counting)
-                    if (kernel == nullptr) return false;
-        for (const auto kernel : count)
-            if (kernel == nullptr) return false;
-        return any[0] != nullptr && any[1] != nullptr && all != nullptr &&
-               closest_point != nullptr;
+        return filled == (std::uint32_t{1} << slot_count) - 1;
     }
-};
 
+private:
+    constexpr void mark(std::size_t slot) noexcept { filled |= std::uint32_t{1} << slot; }
+};
 
 struct KernelTable {
     StructureKernels<SplitGrid> split_grid;
