@@ -215,8 +215,8 @@ void NodeBuilder::hand_out(const Aabb& box, const Plan& plan, const Split& split
 // cell's piece is read from that polygon (ClippedTriangle::slab_bounds);
 // otherwise the children clip it again, each to its own box. The parallel top of the
 // tree leaves it to the children, which run in parallel; the serial subtrees clip here,
-// once instead of once per cell (docs/notebook/build.md, the section "Build fast": each
-// lever, measured).
+// once instead of once per cell (docs/notebook/build.md, section '"Build fast": each lever,
+// measured', has the count of cells per straddling triangle).
 // `cell_counts` (when clipping pieces) holds the number of triangles each cell gets: a
 // cell that becomes a leaf without looking at its extents gets no pieces. `cell_boxes`
 // is working memory for the cells' padded boxes. Returns false when a cell that looks

@@ -24,7 +24,8 @@ std::string node_name(std::uint32_t node) { return "node " + std::to_string(node
 // words must lie in the array and end with a reference marked last (the traversal reads up to
 // it), name triangles of the mesh in strictly ascending order, and belong to no other leaf.
 // `place` names the cell in a message; it is called only to fail: a name built for every cell
-// made loading a large file markedly slower.
+// made loading a large file markedly slower (docs/notebook/layout.md, "A file's check names a
+// cell only when it refuses one").
 template <class Place>
 void check_cell(const SplitGrid& grid, const CellRef& cell, const Place& place,
                 std::vector<bool>& word_seen)

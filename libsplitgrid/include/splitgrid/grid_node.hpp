@@ -28,7 +28,9 @@ inline constexpr std::uint32_t max_cell_index = (1u << 30) - 1u;
 /// A leaf's words end at the reference marked last (leaf_words.hpp), so the cell needs no
 /// count. The poster does not give a cell layout; this one keeps a leaf's references
 /// contiguous, so a leaf costs one 4-byte read plus its references, and makes a node's cells
-/// half the size of an (index, count) pair (docs/SPLIT_GRID.md, "Records").
+/// half the size of an (index, count) pair (docs/SPLIT_GRID.md, "Records"; measured in
+/// docs/notebook/layout.md, "Cells in one 4-byte word, leaves marked at their end (format
+/// version 2)").
 /// The two inner kinds tell the walk which way a child node is entered (docs/SPLIT_GRID.md,
 /// "Traversal") from the word it already holds, before the child's record arrives from memory
 /// (docs/notebook/layout.md, "An inner cell that says how its child is entered (format

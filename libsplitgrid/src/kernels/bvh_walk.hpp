@@ -43,7 +43,8 @@ struct BoxRay {
     float far_offset[3];   ///< added to the product of the plane met last
     /// Byte offsets in an Aabb of the planes met first and last on each axis: the choice is
     /// then an address, not a select, which GCC compiled as branches on the ray's signs, each
-    /// a coin toss on incoherent rays (docs/notebook/trace.md, "The BVH's box test").
+    /// a coin toss on incoherent rays (docs/notebook/trace.md, "The BVH's box test: planes
+    /// chosen by the ray's signs, the allowance folded in").
     std::uint32_t near_plane[3];
     std::uint32_t far_plane[3];
     /// The same choice in a BvhWideNode: byte offsets of its children's planes on each axis.

@@ -59,15 +59,16 @@ enum class ImportIsolation {
 struct ImportOptions {
     ImportIsolation isolation = ImportIsolation::child_process;
     /// Wall-clock seconds the child may take (its CPU time is limited to the same figure).
-    /// Range (0, 1e6]. Assimp reads a scan of a million triangles in seconds (docs/HARDENING.md,
-    /// "13. Hostile mesh files"), so 300 s leaves room for 10^7-triangle scenes on a slow
-    /// machine.
+    /// Range (0, 1e6]. Assimp reads a scan of a million triangles in seconds
+    /// (docs/notebook/build.md, "The mesh import in a child process: what the isolation
+    /// costs"), so 300 s leaves room for 10^7-triangle scenes on a slow machine.
     double time_limit_seconds = 300.0;
     /// Address space the child may add to what it inherits from the parent, in bytes;
     /// 0 means no limit. A whole sg-build peaks at a few hundred bytes per triangle
-    /// (docs/HARDENING.md, "13. Hostile mesh files"), so the default 16 GiB holds
-    /// 10^7-triangle scenes with room to spare. Under AddressSanitizer the limit does not bind as it should (ASan reserves its
-    /// heap address space at start-up), and hitting it aborts the child (a crash message).
+    /// (docs/notebook/build.md, "The mesh import in a child process: what the isolation
+    /// costs"), so the default 16 GiB holds 10^7-triangle scenes with room to spare. Under
+    /// AddressSanitizer the limit does not bind as it should (ASan reserves its heap address
+    /// space at start-up), and hitting it aborts the child (a crash message).
     std::uint64_t memory_limit_bytes = std::uint64_t{16} << 30;
 };
 

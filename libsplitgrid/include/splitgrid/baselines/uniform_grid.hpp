@@ -27,7 +27,7 @@ namespace sg {
 struct UniformGridConfig {
     /// Cells per triangle (lambda). Range (0, 1e4]. 4, the usual choice: on scans a denser
     /// grid traces no faster and costs memory, on an architectural scene speed still rises
-    /// with the density up to 8 (docs/BASELINES.md, "Uniform grid", has the memory).
+    /// with the density up to 8 (docs/BASELINES.md, "Uniform grid", has the measurements).
     double density = 4.0;
     /// Most cells in total (each costs a 4-byte offset). Range [1, 2^30]. 2^26 cells = 256 MiB
     /// of offsets; the rule reaches it at 16.7 million triangles with the default density.
