@@ -143,8 +143,9 @@ struct KernelTable {
     }
 };
 
-/// The kernels compiled for each instruction set; avx2 and avx512 only where the compiler
-/// targets x86-64 (SG_KERNEL_AVX2 / SG_KERNEL_AVX512 defined by CMake).
+/// The kernels compiled for each instruction set: the scalar ones everywhere; avx2 and avx512
+/// only where the compiler targets x86-64 (SG_KERNEL_AVX2 / SG_KERNEL_AVX512 defined by CMake).
+const KernelTable& scalar_kernels() noexcept;
 const KernelTable& sse2_kernels() noexcept;
 #ifdef SG_KERNEL_AVX2
 const KernelTable& avx2_kernels() noexcept;
