@@ -24,8 +24,10 @@ const kernels::KernelTable* table_of(Isa isa) noexcept
     case Isa::avx2:
         return &kernels::avx2_kernels();
 #endif
+#if defined(__x86_64__)
     case Isa::sse2:
         return &kernels::sse2_kernels();
+#endif
     case Isa::scalar:
         return &kernels::scalar_kernels();
     default:
