@@ -12,6 +12,7 @@
 
 #include "interrupt.hpp"
 #include "splitgrid/error.hpp"
+#include "splitgrid/query.hpp"
 #include "splitgrid/version.hpp"
 
 #include <spdlog/fmt/fmt.h>
@@ -391,6 +392,13 @@ unsigned threads_to_use(unsigned requested, std::string_view flag)
     spdlog::warn("{} {} is more than the {} hardware thread{}; using {}", flag, requested,
                  hardware, hardware == 1 ? "" : "s", hardware);
     return hardware;
+}
+
+std::string kernel_isa_in_use()
+{
+    const std::string_view note = kernel_isa_note();
+    if (!note.empty()) spdlog::warn("{}", note);
+    return std::string(isa_name(kernel_isa()));
 }
 
 unsigned threads_that_run(unsigned threads)

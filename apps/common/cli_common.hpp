@@ -161,6 +161,14 @@ void add_build_config_flags(CLI::App& app, BuildConfig& config, bool with_thread
 /// a summary can report what ran.
 [[nodiscard]] unsigned threads_to_use(unsigned requested, std::string_view flag = "--threads");
 
+/// The name of the instruction set the traversal kernels run on ("scalar", "sse2", "avx2" or
+/// "avx512": sg::kernel_isa()), for the --json of a tool that traces ("isa"). When the
+/// environment's SG_ISA asked for another (a name of no instruction set, or one this processor
+/// cannot run), logs the library's one-line reason as a warning first, "SG_ISA=avx2x is not
+/// one of scalar, sse2, avx2, avx512; using avx2", so that no run silently measures other
+/// kernels than the ones asked for. Every tool that traces calls it before its work.
+[[nodiscard]] std::string kernel_isa_in_use();
+
 /// The number of threads a run with `threads` (threads_to_use's result) really uses.
 [[nodiscard]] unsigned threads_that_run(unsigned threads);
 

@@ -142,6 +142,7 @@ void bench(const CLI::App& app, BenchOptions& o)
 {
     const auto start = std::chrono::steady_clock::now();
     const sg::bench::ResolvedOptions resolved = sg::bench::resolve_options(app, o);
+    const std::string isa = sg::apps::kernel_isa_in_use();
     const BenchPlan& plan = resolved.plan;
     const sg::bench::DynamicPlan& dynamic_plan = resolved.dynamic_plan;
     const std::vector<std::size_t>& arena_sizes = resolved.arena_sizes;
@@ -208,7 +209,7 @@ void bench(const CLI::App& app, BenchOptions& o)
     info.machine = cpu_model();
     info.hardware_threads = sg::apps::threads_that_run(0);
     info.compiler = "g++ " __VERSION__;
-    info.kernel_isa = std::string(sg::isa_name(sg::kernel_isa()));
+    info.kernel_isa = isa;
     info.seconds = sg::apps::seconds_since(start);
 
     sg::apps::Json document = sg::bench::results_json(results, plan, info);

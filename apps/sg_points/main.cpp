@@ -73,6 +73,7 @@ void occupancy(const Options& options)
     sg::apps::refuse_output_over_input(options.out, {options.file, options.points});
     const std::unique_ptr<sg::OutputFile> output = sg::apps::reserve_output(options.out);
     const unsigned threads_asked = sg::apps::threads_to_use(options.threads);
+    const std::string isa = sg::apps::kernel_isa_in_use();
     const sg::SgContents contents = sg::read_sg_file(options.file);
     const sg::LoadedPoints loaded = sg::read_points(options.points);
     const std::vector<sg::Vec3f>& points = loaded.points;
@@ -122,6 +123,7 @@ void occupancy(const Options& options)
         j["points_format"] = from_text ? "text" : "binary";
         j["output"] = options.out.string();
         j["query"] = options.query;
+        j["isa"] = isa;
         j["nsamples"] = options.nsamples;
         j["threads"] = threads;
         j["point_count"] = points.size();

@@ -56,9 +56,9 @@ Json legend_json(const sg::HeatLegend& legend)
             {"drawn", legend.drawn}};
 }
 
-void print_json(const Options& options, const sg::RenderResult& result, const sg::Camera& camera,
-                bool automatic_camera, std::size_t triangles, double load_seconds,
-                double write_seconds, std::uintmax_t image_bytes)
+void print_json(const Options& options, const std::string& isa, const sg::RenderResult& result,
+                const sg::Camera& camera, bool automatic_camera, std::size_t triangles,
+                double load_seconds, double write_seconds, std::uintmax_t image_bytes)
 {
     const sg::RenderSettings& s = options.settings;
     const sg::RenderStats& stats = result.stats;
@@ -73,6 +73,7 @@ void print_json(const Options& options, const sg::RenderResult& result, const sg
                   {"height", s.height},
                   {"bytes", image_bytes}};
     j["mode"] = std::string(sg::to_string(s.mode));
+    j["isa"] = isa;
     j["samples_per_pixel"] = s.samples_per_pixel;
     j["seed"] = s.seed;
     j["ao_samples"] = s.ao_samples;
@@ -138,6 +139,7 @@ void render(Options& options)
     sg::apps::refuse_output_over_input(options.output, {options.file});
     const std::unique_ptr<sg::OutputFile> output = sg::apps::reserve_output(options.output);
     options.settings.threads = sg::apps::threads_to_use(options.settings.threads);
+    const std::string isa = sg::apps::kernel_isa_in_use();
 
     const auto load_start = Clock::now();
     const sg::SgContents contents = sg::read_sg_file(options.file);
@@ -164,7 +166,7 @@ void render(Options& options)
     const std::uintmax_t image_bytes = fs::file_size(options.output);
 
     if (options.json)
-        print_json(options, result, options.settings.camera, automatic_camera,
+        print_json(options, isa, result, options.settings.camera, automatic_camera,
                    mesh.triangle_count(), load_seconds, write_seconds, image_bytes);
     else if (options.log.shows_summary())
         print_summary(options, result, options.settings.camera, automatic_camera,

@@ -193,6 +193,7 @@ void trace(const Options& options)
     sg::apps::refuse_output_over_input(options.out, {options.file, options.rays});
     const std::unique_ptr<sg::OutputFile> output = sg::apps::reserve_output(options.out);
     const unsigned threads_asked = sg::apps::threads_to_use(options.threads);
+    const std::string isa = sg::apps::kernel_isa_in_use();
     const sg::SgContents contents = sg::read_sg_file(options.file);
     const std::vector<sg::Ray> rays = sg::read_ray_file(options.rays);
     spdlog::debug("{}: {} triangles; {}: {} rays", options.file.string(),
@@ -233,6 +234,7 @@ void trace(const Options& options)
         j["query"] = query_names[q];
         j["mode"] = mode_names[q];
         j["threads"] = threads;
+        j["isa"] = isa;
         j["ray_count"] = rays.size();
         j["hit_count"] = answer.hit_rays;
         if (counts_hits) j["total_hits"] = answer.total_hits;

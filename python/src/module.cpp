@@ -19,8 +19,8 @@ PYBIND11_MODULE(_splitgrid, m)
     m.attr("INVALID_ID") = py::int_(sg::invalid_triangle);
     m.def(
         "kernel_isa", [] { return std::string(sg::isa_name(sg::kernel_isa())); },
-        "The instruction set the query kernels run on: 'sse2', 'avx2' or 'avx512' (the best "
-        "the processor has, or the environment variable SG_ISA's choice).");
+        "The instruction set the query kernels run on: 'scalar', 'sse2', 'avx2' or 'avx512' "
+        "(the best the processor has, or the environment variable SG_ISA's choice).");
     sg::python::bind_errors(m);
     sg::python::bind_grid(m);
     sg::python::bind_import(m);

@@ -20,6 +20,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <vector>
 
@@ -48,9 +49,11 @@ struct RunningTool {
 };
 
 /// Starts `exe` with `args` (no shell: arguments are passed as they are), stdout and stderr
-/// redirected to files in `scratch`, in the folder `cwd` (the test's own if empty).
+/// redirected to files in `scratch`, in the folder `cwd` (the test's own if empty), with the
+/// test's environment plus the "NAME=value" entries of `extra_env` (which win over it).
 inline RunningTool start_tool(const std::string& exe, const std::vector<std::string>& args,
-                              const ScratchDir& scratch, const std::filesystem::path& cwd = {})
+                              const ScratchDir& scratch, const std::filesystem::path& cwd = {},
+                              const std::vector<std::string>& extra_env = {})
 {
     static std::atomic<int> run_counter{0};
     const int id = run_counter++;
@@ -74,8 +77,20 @@ inline RunningTool start_tool(const std::string& exe, const std::vector<std::str
     posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, tool.err_path.c_str(),
                                      O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (!cwd.empty()) posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
+    std::vector<std::string> env_storage(extra_env);
+    std::vector<char*> env;
+    for (std::string& entry : env_storage) env.push_back(entry.data());
+    for (char** entry = environ; *entry != nullptr; ++entry) {
+        const std::string_view name(*entry, std::strcspn(*entry, "="));
+        const bool replaced = std::any_of(extra_env.begin(), extra_env.end(), [&](const auto& e) {
+            return e.size() > name.size() && e.compare(0, name.size(), name) == 0 &&
+                   e[name.size()] == '=';
+        });
+        if (!replaced) env.push_back(*entry);
+    }
+    env.push_back(nullptr);
     const int spawn_error = ::posix_spawn(&tool.pid, exe.c_str(), &actions, nullptr, argv.data(),
-                                          environ);
+                                          env.data());
     posix_spawn_file_actions_destroy(&actions);
     if (spawn_error != 0)
         throw std::runtime_error("cannot start " + exe + ": " + std::strerror(spawn_error));
@@ -97,9 +112,10 @@ inline ToolRun finish_tool(const RunningTool& tool)
 
 /// Runs `exe` with `args` like start_tool() and waits for it.
 inline ToolRun run_tool(const std::string& exe, const std::vector<std::string>& args,
-                        const ScratchDir& scratch, const std::filesystem::path& cwd = {})
+                        const ScratchDir& scratch, const std::filesystem::path& cwd = {},
+                        const std::vector<std::string>& extra_env = {})
 {
-    return finish_tool(start_tool(exe, args, scratch, cwd));
+    return finish_tool(start_tool(exe, args, scratch, cwd, extra_env));
 }
 
 /// Whether the started tool has ended (it stays a zombie for finish_tool to collect).

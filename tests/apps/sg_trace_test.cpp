@@ -188,6 +188,54 @@ TEST_F(SgTrace, RandomSceneWithPlanesMatchesBruteForce)
     check_closest_and_any_hit(sg_file);
 }
 
+// SG_ISA chooses the kernels sg-trace runs, and its --json names them ("isa"); a name of no
+// instruction set gets a one-line warning on stderr and the best kernels. Every instruction
+// set writes the same hit file, byte for byte, and brute force agrees with it.
+TEST_F(SgTrace, InstructionSetIsNamedAndAnUnknownOneIsReported)
+{
+    const Mesh mesh = random_triangles(5, 1500, Aabb{{0, 0, 0}, {8, 8, 8}}, 1.0f);
+    SgContents contents;
+    contents.grid = build_split_grid(mesh.view(), BuildConfig{});
+    contents.mesh = mesh;
+    contents.source_name = "random";
+    const fs::path sg_file = scratch_ / "random.sg";
+    write_sg_file(sg_file, contents);
+    const std::vector<Ray> rays = make_rays(mesh.view(), 21);
+    const fs::path ray_file = scratch_ / "isa.rays";
+    write_ray_file(ray_file, rays);
+    const auto run = [&](const std::string& isa, const std::string& tag) {
+        return run_tool(SG_TRACE_EXE,
+                        {sg_file.string(), "--rays", ray_file.string(), "--out",
+                         (scratch_ / (tag + ".hits")).string(), "--json"},
+                        scratch_, {}, {"SG_ISA=" + isa});
+    };
+    const ToolRun best = run("", "best");
+    ASSERT_EQ(best.exit_code, 0) << describe(best);
+    EXPECT_EQ(best.err, "");
+    const std::string best_isa = json::parse(best.out).at("isa");
+
+    const ToolRun scalar = run("scalar", "scalar");
+    ASSERT_EQ(scalar.exit_code, 0) << describe(scalar);
+    EXPECT_EQ(scalar.err, "");
+    EXPECT_EQ(json::parse(scalar.out).at("isa"), "scalar");
+    std::size_t hit_count = 0;
+    EXPECT_EQ(compare_closest(mesh.view(), rays, read_hit_file(scratch_ / "scalar.hits"),
+                              hit_count),
+              "");
+    EXPECT_GT(hit_count, rays.size() / 4);
+    EXPECT_EQ(read_text(scratch_ / "scalar.hits"), read_text(scratch_ / "best.hits"))
+        << "scalar and " << best_isa << " kernels wrote different hit files";
+
+    const ToolRun unknown = run("avx2x", "unknown");
+    ASSERT_EQ(unknown.exit_code, 0) << describe(unknown);
+    EXPECT_NE(unknown.err.find("SG_ISA=avx2x is not one of scalar, sse2, avx2, avx512; using " +
+                               best_isa),
+              std::string::npos)
+        << unknown.err;
+    EXPECT_EQ(std::count(unknown.err.begin(), unknown.err.end(), '\n'), 1) << unknown.err;
+    EXPECT_EQ(json::parse(unknown.out).at("isa"), best_isa);
+}
+
 TEST_F(SgTrace, EmptyRaySetGivesEmptyHitFile)
 {
     const fs::path model = assimp_model("OFF/Cube.off");

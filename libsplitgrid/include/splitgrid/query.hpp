@@ -48,20 +48,21 @@ struct QueryOptions {
 /// The instruction sets the traversal kernels are compiled for. Every query runs the kernels
 /// of the active one (kernel_isa()); all of them compute bit-identical hits.
 enum class Isa : std::uint8_t {
+    scalar,  ///< no SIMD: one triangle, one box, one point at a time (every processor)
     sse2,    ///< x86-64 baseline: 8-lane triangle tests as two 4-wide halves
     avx2,    ///< x86-64-v3 (AVX2, FMA, BMI2): 8-wide triangle tests in 256-bit registers
     avx512,  ///< x86-64-v4 (AVX-512 F/VL/BW/DQ): 8-wide triangle tests with mask registers
 };
 
-/// "sse2", "avx2" or "avx512".
+/// "scalar", "sse2", "avx2" or "avx512".
 [[nodiscard]] std::string_view isa_name(Isa isa) noexcept;
 
 /// True if this processor can run `isa`'s kernels.
 [[nodiscard]] bool isa_supported(Isa isa) noexcept;
 
 /// The kernels queries use. At start-up: the value of the environment variable SG_ISA
-/// ("sse2", "avx2" or "avx512") if it is set and supported, else the most capable supported
-/// instruction set. Cost: one atomic load.
+/// ("scalar", "sse2", "avx2" or "avx512") if it is set and supported, else the most capable
+/// supported instruction set. Cost: one atomic load.
 [[nodiscard]] Isa kernel_isa() noexcept;
 
 /// Why kernel_isa() is not what SG_ISA asked for: empty when SG_ISA is unset or was honoured,

@@ -1,6 +1,8 @@
 #pragma once
 
-// Traversal kernels, part 6: the BVH's traversal (baselines/bvh.hpp).
+// Traversal kernels, part 6: the BVH's traversal (baselines/bvh.hpp). A wide node's eight
+// boxes are tested at once (wide_box_entry), or in the scalar kernels (level 0) one after the
+// other with the root box's test.
 
 #ifndef SG_KERNEL_ISA
 #error "kernel headers are included by kernels_isa.inc only"
@@ -8,13 +10,12 @@
 
 namespace sg::kernels::SG_KERNEL_ISA {
 
-/// Entry parameter of the ray into `box` within [t0, t1], or +infinity if the ray misses it,
-/// with the crossings computed as (p - o) * (1 / d) and widened by KernelRay::pad: the box
-/// test of Padding::none (pad 0, the accuracy experiment's measure of what the allowance buys;
-/// +infinity on a parallel axis, which then constrains nothing).
-[[nodiscard, gnu::always_inline]] inline float unpadded_box_entry(const KernelRay& ray,
-                                                                  const Aabb& box, float t0,
-                                                                  float t1) noexcept
+/// Narrows [t0, t1] to the ray's interval in `box` (empty: t0 > t1), with the crossings
+/// computed as (p - o) * (1 / d) and widened by KernelRay::pad: the box test of Padding::none
+/// (pad 0, the accuracy experiment's measure of what the allowance buys; +infinity on a
+/// parallel axis, which then constrains nothing).
+[[gnu::always_inline]] inline void clip_unpadded(const KernelRay& ray, const Aabb& box, float& t0,
+                                                 float& t1) noexcept
 {
     for (int k = 0; k < 3; ++k) {
         const float a = (box.lower[k] - ray.origin[k]) * ray.inv[k];
@@ -22,6 +23,15 @@ namespace sg::kernels::SG_KERNEL_ISA {
         t0 = std::max(t0, std::min(a, b) - ray.pad[k]);
         t1 = std::min(t1, std::max(a, b) + ray.pad[k]);
     }
+}
+
+/// Entry parameter of the ray into `box` within [t0, t1] (clip_unpadded), or +infinity if the
+/// ray misses it.
+[[nodiscard, gnu::always_inline]] inline float unpadded_box_entry(const KernelRay& ray,
+                                                                  const Aabb& box, float t0,
+                                                                  float t1) noexcept
+{
+    clip_unpadded(ray, box, t0, t1);
     return t0 <= t1 ? t0 : std::numeric_limits<float>::infinity();
 }
 
@@ -93,13 +103,10 @@ struct BoxRay {
     return plane;
 }
 
-/// Entry parameter of the ray into `box` within [t0, t1], every crossing widened by the
-/// axis's allowance, or +infinity if the ray misses it: the root box's test (the wide nodes'
-/// boxes go through wide_box_entry, which does the same lane by lane). Always inlined: as a
-/// call in the binary walk it cost time (docs/notebook/trace.md, "Calls inside the walks, and
-/// the BVH's order of children").
-[[nodiscard, gnu::always_inline]] inline float box_entry(const BoxRay& ray, const Aabb& box,
-                                                         float t0, float t1) noexcept
+/// Narrows [t0, t1] to the ray's interval in `box` (empty: t0 > t1), every crossing widened
+/// by the axis's allowance.
+[[gnu::always_inline]] inline void clip_widened(const BoxRay& ray, const Aabb& box, float& t0,
+                                                float& t1) noexcept
 {
     // Operand order matters: on an unconstrained axis an infinite plane (a padded box next to
     // FLT_MAX) times scale 0 is NaN, and std::max and std::min return their first operand when
@@ -110,6 +117,16 @@ struct BoxRay {
         t0 = std::max(t0, near);
         t1 = std::min(t1, far);
     }
+}
+
+/// Entry parameter of the ray into `box` within [t0, t1] (clip_widened), or +infinity if the
+/// ray misses it: the root box's test (the wide nodes' boxes go through wide_box_entry, which
+/// does the same lane by lane). Always inlined: as a call in the binary walk it cost time
+/// (docs/notebook/trace.md, "Calls inside the walks, and the BVH's order of children").
+[[nodiscard, gnu::always_inline]] inline float box_entry(const BoxRay& ray, const Aabb& box,
+                                                         float t0, float t1) noexcept
+{
+    clip_widened(ray, box, t0, t1);
     return t0 <= t1 ? t0 : std::numeric_limits<float>::infinity();
 }
 
@@ -123,8 +140,12 @@ template <Padding padding>
     else return box_entry(widened, box, t0, t1);
 }
 
+#if SG_KERNEL_ISA_LEVEL >= 2
 static_assert(BvhWideNode::width == lane_count,
               "a BvhWideNode's boxes are tested in one vfloat (simd.hpp), a lane per child");
+
+/// The entry parameters of a wide node's children, a lane each.
+using ChildEntries = vfloat;
 
 /// The children's planes at byte `offset` of `node` (near_wide, far_wide: chosen per ray, as
 /// in plane_at).
@@ -144,7 +165,7 @@ static_assert(BvhWideNode::width == lane_count,
 template <Padding padding>
 [[nodiscard, gnu::always_inline]] inline std::uint32_t wide_box_entry(
     const KernelRay& ray, const BoxRay& widened, const BvhWideNode& node, float t0_in, float t1_in,
-    vfloat& t_enter) noexcept
+    ChildEntries& t_enter) noexcept
 {
     vfloat t0 = splat(t0_in);
     vfloat t1 = splat(t1_in);
@@ -175,6 +196,36 @@ template <Padding padding>
     t_enter = t0;
     return lane_bits(hit);
 }
+#else
+/// The entry parameters of a wide node's children, one each.
+using ChildEntries = float[BvhWideNode::width];
+
+/// The scalar kernels' wide_box_entry: the children's boxes one at a time, each with the root
+/// box's test of the padding (clip_unpadded, clip_widened), so each entry is the one the
+/// lanes compute, bit for bit.
+template <Padding padding>
+[[nodiscard, gnu::always_inline]] inline std::uint32_t wide_box_entry(
+    const KernelRay& ray, const BoxRay& widened, const BvhWideNode& node, float t0_in, float t1_in,
+    ChildEntries& t_enter) noexcept
+{
+    std::uint32_t hits = 0;
+    for (int i = 0; i < BvhWideNode::width; ++i) {
+        t_enter[i] = t0_in;
+        if (node.child[i] == BvhWideNode::unused_slot) continue;
+        Aabb box;
+        for (int k = 0; k < 3; ++k) {
+            box.lower[k] = node.lower[k][i];
+            box.upper[k] = node.upper[k][i];
+        }
+        float t0 = t0_in, t1 = t1_in;
+        if constexpr (padding == Padding::none) clip_unpadded(ray, box, t0, t1);
+        else clip_widened(widened, box, t0, t1);
+        t_enter[i] = t0;
+        if (t0 <= t1) hits |= 1u << i;
+    }
+    return hits;
+}
+#endif
 
 /// Depth first over the wide nodes (Bvh::wide_nodes), the children a ray enters visited
 /// nearest first (by their entry parameters; equal ones in slot order); a pending child is
@@ -215,7 +266,7 @@ inline void walk_bvh(const Bvh& bvh, const MeshArrays& mesh, const KernelRay& ra
         if (count == 0) {
             const BvhWideNode& node = nodes[index];
             search.count_node();
-            vfloat t;
+            ChildEntries t;
             std::uint32_t hits = wide_box_entry<padding>(ray, widened, node, ray.t_min,
                                                          search.best_t(), t);
             if (hits != 0) {

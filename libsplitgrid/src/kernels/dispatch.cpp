@@ -24,8 +24,12 @@ const kernels::KernelTable* table_of(Isa isa) noexcept
     case Isa::avx2:
         return &kernels::avx2_kernels();
 #endif
+#if defined(__x86_64__)
     case Isa::sse2:
         return &kernels::sse2_kernels();
+#endif
+    case Isa::scalar:
+        return &kernels::scalar_kernels();
     default:
         return nullptr;
     }
@@ -36,6 +40,7 @@ bool cpu_runs(Isa isa) noexcept
 #if defined(__x86_64__) && defined(__GNUC__)
     __builtin_cpu_init();
     switch (isa) {
+    case Isa::scalar:
     case Isa::sse2:
         return true;
     case Isa::avx2:
@@ -49,7 +54,7 @@ bool cpu_runs(Isa isa) noexcept
     }
     return false;
 #else
-    return isa == Isa::sse2;
+    return isa == Isa::scalar;
 #endif
 }
 
@@ -58,21 +63,25 @@ struct Selection {
     std::string note;
 };
 
+constexpr Isa every_isa[] = {Isa::scalar, Isa::sse2, Isa::avx2, Isa::avx512};
+
 Selection initial_selection()
 {
-    Isa best = Isa::sse2;
-    for (Isa isa : {Isa::avx2, Isa::avx512})
+    Isa best = Isa::scalar;
+    for (Isa isa : every_isa)
         if (isa_supported(isa)) best = isa;
     const char* requested = std::getenv("SG_ISA");
     if (requested == nullptr || *requested == '\0') return {best, {}};
     const std::string_view name(requested);
-    for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512}) {
+    std::string names;
+    for (Isa isa : every_isa) {
+        names += (names.empty() ? "" : ", ") + std::string(isa_name(isa));
         if (name != isa_name(isa)) continue;
         if (isa_supported(isa)) return {isa, {}};
         return {best, "SG_ISA=" + std::string(name) + " is not supported by this processor or " +
                           "build; using " + std::string(isa_name(best))};
     }
-    return {best, "SG_ISA=" + std::string(name) + " is not one of sse2, avx2, avx512; using " +
+    return {best, "SG_ISA=" + std::string(name) + " is not one of " + names + "; using " +
                       std::string(isa_name(best))};
 }
 
@@ -98,6 +107,8 @@ std::atomic<Isa>& active_isa() noexcept
 std::string_view isa_name(Isa isa) noexcept
 {
     switch (isa) {
+    case Isa::scalar:
+        return "scalar";
     case Isa::sse2:
         return "sse2";
     case Isa::avx2:

@@ -104,6 +104,7 @@ private:
 class Mailbox {
 public:
     Mailbox() noexcept { std::memset(slots_, 0xFF, sizeof slots_); }
+#if SG_KERNEL_ISA_LEVEL >= 2
     /// Of the lanes set in `lanes`, those whose id was not recorded (or was evicted since);
     /// records the ids of all lanes. Every lane must hold an id that is tested now: the
     /// unused ones a copy of a used one. One gather and eight stores.
@@ -114,6 +115,18 @@ public:
         for (int l = 0; l < 8; ++l) slots_[slot[l]] = id[l];
         return lanes & ~seen;
     }
+#else
+    /// True if `id` was not recorded (or was evicted since); records it. The scalar kernels'
+    /// filter, one triangle at a time.
+    bool is_fresh(std::uint32_t id) noexcept
+    {
+        const auto word = static_cast<std::int32_t>(id);
+        std::int32_t& slot = slots_[id & (size - 1)];
+        if (slot == word) return false;
+        slot = word;
+        return true;
+    }
+#endif
 
 private:
     static constexpr std::uint32_t size = 32;
@@ -122,7 +135,11 @@ private:
 
 /// Stands in for a Mailbox in structures that reference every triangle once (the BVH).
 struct NoMailbox {
+#if SG_KERNEL_ISA_LEVEL >= 2
     static constexpr std::uint32_t filter(vint, std::uint32_t lanes) noexcept { return lanes; }
+#else
+    static constexpr bool is_fresh(std::uint32_t) noexcept { return true; }
+#endif
 };
 
 }  // namespace sg::kernels::SG_KERNEL_ISA

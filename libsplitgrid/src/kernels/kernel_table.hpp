@@ -175,9 +175,13 @@ struct KernelTable {
     }
 };
 
-/// The kernels compiled for each instruction set; avx2 and avx512 only where the compiler
-/// targets x86-64 (SG_KERNEL_AVX2 / SG_KERNEL_AVX512 defined by CMake).
+/// The kernels compiled for each instruction set: the scalar ones everywhere; sse2 where the
+/// compiler targets x86-64 (libsplitgrid/CMakeLists.txt builds kernels_sse2.cpp there only);
+/// avx2 and avx512 where GCC targets it (SG_KERNEL_AVX2 / SG_KERNEL_AVX512 defined by CMake).
+const KernelTable& scalar_kernels() noexcept;
+#if defined(__x86_64__)
 const KernelTable& sse2_kernels() noexcept;
+#endif
 #ifdef SG_KERNEL_AVX2
 const KernelTable& avx2_kernels() noexcept;
 #endif

@@ -1,7 +1,6 @@
-// The traversal kernels for the x86-64 baseline (SSE2): the fallback every x86-64 processor can
-// run. They are written with x86 intrinsics (simd.hpp, triangle_test.hpp), so a processor of
-// another kind has no kernels at all; the top-level CMakeLists.txt refuses to configure for one
-// until a scalar path exists.
+// The traversal kernels for the x86-64 baseline (SSE2): the SIMD fallback every x86-64 processor
+// can run. They are written with x86 intrinsics (simd.hpp, triangle_test.hpp), so they are
+// built for x86-64 only; another processor runs the scalar kernels (kernels_scalar.cpp).
 #include "kernel_deps.hpp"
 
 // The 8-wide vectors of simd.hpp are passed between inline functions of this file only, so

@@ -3,7 +3,9 @@
 // Traversal kernels, part 9: the point queries' triangle test, eight triangles at a time. Each lane
 // computes in double exactly what points::closest_on_triangle computes for its distance (the
 // same operations in the same order, no contraction), so a batched walk keeps the same best
-// triangle as a scalar one would, and brute force agrees bit for bit.
+// triangle as a scalar one would, and brute force agrees bit for bit. The scalar kernels
+// (level 0) measure one triangle at a time with PointSearch::offer (point_search.hpp), as
+// brute force does.
 
 #ifndef SG_KERNEL_ISA
 #error "kernel headers are included by kernels_isa.inc only"
@@ -11,6 +13,7 @@
 
 namespace sg::kernels::SG_KERNEL_ISA {
 
+#if SG_KERNEL_ISA_LEVEL >= 2
 /// Three coordinates of eight points, in double.
 struct Lanes3d {
     vdouble x, y, z;
@@ -122,6 +125,7 @@ inline void test_point_lanes(points::PointSearch& search, const MeshArrays& mesh
         search.offer_distance(mesh.view, static_cast<std::uint32_t>(id[l]), d2[l]);
     }
 }
+#endif
 
 /// The point's side of for_each_id_batch and for_each_leaf_batch: measures the batch's ids
 /// that `mailbox` has not seen.
@@ -132,12 +136,20 @@ public:
         : search_(search), mesh_(mesh), mailbox_(mailbox)
     {
     }
+#if SG_KERNEL_ISA_LEVEL >= 2
     bool operator()(vint id, std::uint32_t n) noexcept
     {
         const std::uint32_t fresh = mailbox_.filter(id, (1u << n) - 1u);
         if (fresh != 0) test_point_lanes(search_, mesh_, id, fresh);
         return false;
     }
+#else
+    bool operator()(std::uint32_t id) noexcept
+    {
+        if (mailbox_.is_fresh(id)) search_.offer(mesh_.view, id);
+        return false;
+    }
+#endif
 
 private:
     points::PointSearch& search_;

@@ -4,7 +4,9 @@
 // GCC vector extensions, so that one source compiles to two SSE2 halves, one AVX2 register or
 // AVX-512 mask operations by the target region it is included in. Only the gathers and the
 // lane mask differ by instruction set (and the triangle test's loads from the mesh:
-// load_corners in triangle_test.hpp).
+// load_corners in triangle_test.hpp). The scalar kernels (level 0) have no vectors at all:
+// their leaves, boxes and points are taken one at a time (triangle_test.hpp, bvh_walk.hpp,
+// point_lanes.hpp), so this part gives them clear_upper_lanes only.
 
 #ifndef SG_KERNEL_ISA
 #error "kernel headers are included by kernels_isa.inc only"
@@ -12,6 +14,20 @@
 
 namespace sg::kernels::SG_KERNEL_ISA {
 
+/// Clears the upper halves of the 256- and 512-bit registers (vzeroupper; nothing in the
+/// SSE2 and scalar kernels). The batch drivers call it after every walk: GCC does not insert
+/// it on every exit of a walk whose inlined leaf test uses 256-bit registers, and the code
+/// compiled without AVX that runs between two rays then stalls on the dirty registers (it cost
+/// the BVH much of its speed on primary rays; docs/notebook/trace.md, "The BVH: eight boxes
+/// per step").
+[[gnu::always_inline]] inline void clear_upper_lanes() noexcept
+{
+#if SG_KERNEL_ISA_LEVEL >= 3
+    _mm256_zeroupper();
+#endif
+}
+
+#if SG_KERNEL_ISA_LEVEL >= 2
 inline constexpr int lane_count = 8;
 typedef float vfloat __attribute__((vector_size(32)));
 typedef std::int32_t vint __attribute__((vector_size(32)));
@@ -69,19 +85,6 @@ typedef std::int64_t vlong __attribute__((vector_size(64)));
 #endif
 }
 
-/// Clears the upper halves of the 256- and 512-bit registers (vzeroupper; nothing in the
-/// SSE2 kernels). The batch drivers call it after every walk: GCC does not insert it on every
-/// exit of a walk whose inlined leaf test uses 256-bit registers, and the code compiled
-/// without AVX that runs between two rays then stalls on the dirty registers (it cost the BVH
-/// much of its speed on primary rays; docs/notebook/trace.md, "The BVH: eight boxes per
-/// step").
-[[gnu::always_inline]] inline void clear_upper_lanes() noexcept
-{
-#if SG_KERNEL_ISA_LEVEL >= 3
-    _mm256_zeroupper();
-#endif
-}
-
 /// ids[0, n) in lanes 0 .. n - 1 (as signed words; the ids are below 2^31), one vector load
 /// where the array holds lane_count words from `ids` on (`end` is the array's end); the other
 /// lanes are unspecified (valid words of the array, or 0).
@@ -129,5 +132,6 @@ typedef std::int64_t vlong __attribute__((vector_size(64)));
                                          (std::uint32_t{words[2 * l + 1]} << 16));
     return v;
 }
+#endif  // SG_KERNEL_ISA_LEVEL >= 2
 
 }  // namespace sg::kernels::SG_KERNEL_ISA

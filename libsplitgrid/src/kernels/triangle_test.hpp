@@ -5,7 +5,9 @@
 // need double precision), or up to eight at once with the watertight test, which computes
 // for each lane exactly what intersect_triangle computes: the same operations in the same
 // order (no FMA contraction), so the batched and the one-at-a-time test return bit-identical
-// t, u and v, and every instruction set returns the same hits.
+// t, u and v, and every instruction set returns the same hits. The scalar kernels (level 0)
+// have no batches: every triangle goes through the one-at-a-time test, the leaves are read one
+// reference at a time, and the walks above them do not change.
 
 #ifndef SG_KERNEL_ISA
 #error "kernel headers are included by kernels_isa.inc only"
@@ -38,12 +40,14 @@ struct MeshArrays {
     static constexpr std::size_t max_batchable = 0x7FFFFFFF / 3;
 };
 
+#if SG_KERNEL_ISA_LEVEL >= 2
 /// intersect_triangle's margin of its early out, lane by lane: |x| 2^-20 + FLT_MIN. (A
 /// function, not a lambda: GCC compiles lambdas without the target region's instruction set.)
 [[nodiscard]] inline vfloat early_out_margin(vfloat x) noexcept
 {
     return abs(x) * splat(0x1p-20f) + splat(0x1p-126f);
 }
+#endif
 
 #if SG_KERNEL_ISA_LEVEL >= 3
 /// The corners of the triangles id[l], transposed: corner[c][k] holds, lane by lane, coordinate
@@ -90,6 +94,7 @@ template <TriangleTest test>
                                                   t_min, t_max, t, u, v);
 }
 
+#if SG_KERNEL_ISA_LEVEL >= 2
 /// Tests the triangles id[l] of the lanes l set in `lanes` (at least one) over
 /// [search.t_min(), search.best_t()] and offers each hit to `search` in lane order (which
 /// breaks ties on t by triangle id). Lanes not set must still hold a valid id.
@@ -265,6 +270,42 @@ template <class Visit>
     }
 }
 
+#else
+/// Tests triangle `tri` over [search.t_min(), search.best_t()] and offers a hit to `search`:
+/// the scalar kernels' test_lanes, one triangle at a time. True if the hit was kept.
+template <TriangleTest test, class Search>
+inline bool test_triangle(const KernelRay& ray, const MeshArrays& mesh, std::uint32_t tri,
+                          Search& search) noexcept
+{
+    search.count_triangles(1);
+    float t, u, v;
+    return test_one<test>(ray, mesh.view, tri, search.t_min(), search.best_t(), t, u, v) &&
+           search.offer(t, tri, u, v);
+}
+
+/// The scalar kernels' for_each_id_batch: a batch is one id, `visit(id)` is called for each
+/// of ids[0, count) until it returns true.
+template <class Visit>
+inline void for_each_id_batch(const std::uint32_t* ids, std::uint32_t count,
+                              const std::uint32_t* /*ids_end*/, Visit& visit) noexcept
+{
+    for (std::uint32_t i = 0; i < count; ++i)
+        if (visit(ids[i])) return;
+}
+
+/// The scalar kernels' for_each_leaf_batch: `visit(id)` for each reference of the Split Grid
+/// leaf at `leaf` (read_leaf, leaf_words.hpp), until it returns true.
+template <class Visit>
+inline void for_each_leaf_batch(const std::uint16_t* leaf, const std::uint16_t* end,
+                                Visit& visit) noexcept
+{
+    bool stopped = false;
+    (void)read_leaf(std::span<const std::uint16_t>(leaf, end), 0, [&](std::uint32_t id) {
+        if (!stopped) stopped = visit(id);
+    });
+}
+#endif
+
 /// The ray's side of for_each_leaf_batch: tests the batch's ids that `mailbox` has not seen,
 /// and stops the leaf once an any-hit query is done.
 template <TriangleTest test, class Search, class Box>
@@ -274,6 +315,7 @@ public:
         : ray_(ray), mesh_(mesh), search_(search), mailbox_(mailbox)
     {
     }
+#if SG_KERNEL_ISA_LEVEL >= 2
     bool operator()(vint id, std::uint32_t n) noexcept
     {
         const std::uint32_t fresh = mailbox_.filter(id, (1u << n) - 1u);
@@ -281,6 +323,14 @@ public:
         kept = true;
         return search_.done();
     }
+#else
+    bool operator()(std::uint32_t id) noexcept
+    {
+        if (!mailbox_.is_fresh(id) || !test_triangle<test>(ray_, mesh_, id, search_)) return false;
+        kept = true;
+        return search_.done();
+    }
+#endif
     bool kept = false;  ///< a hit was kept
 
 private:
