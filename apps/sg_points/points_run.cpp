@@ -1,6 +1,7 @@
 #include "points_run.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -65,7 +66,8 @@ GridFieldFacts grid_facts(const PointsOptions& o, const SgContents& contents)
                    {"query", std::string(query_name(o.query))}};
     facts.numbers = {{"padding", o.padding}};
     if (casts_rays(o.query)) facts.numbers.emplace_back("nsamples", o.nsamples);
-    if (measures_distance(o.query))
+    // Only a limit given: VTK's XML writer records an infinite value's range as 1e299.
+    if (measures_distance(o.query) && !std::isinf(o.max_distance))
         facts.numbers.emplace_back("max_distance", static_cast<double>(o.max_distance));
     return facts;
 }

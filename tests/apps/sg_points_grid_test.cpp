@@ -152,6 +152,9 @@ TEST_F(SgPointsGrid, SignedDistanceFieldReadsBackPlacedAndAgreesWithTheOracle)
     EXPECT_EQ(field_string(field.image, "query"), "signed-distance");
     EXPECT_EQ(field_string(field.image, "structure_name"), "shapes.sg");
     EXPECT_EQ(field_number(field.image, "padding"), 0.1);
+    EXPECT_EQ(field.image->GetFieldData()->GetAbstractArray("max_distance"), nullptr)
+        << "no --max-distance, no field";
+    EXPECT_EQ(field_number(field.image, "nsamples"), 1.0);
 
     const std::vector<double> values = point_values(field.image, "signed_distance");
     ASSERT_EQ(values.size(), std::size_t{17 * 9 * 8});
