@@ -14,10 +14,10 @@
 /// order of VTK image data).
 namespace sg::apps {
 
-/// The most points --grid takes: 2^26 (406^3). The answers of one point take 4 bytes (28 and
-/// 8 more for the closest point's record and triangle id), VTK's writer compresses them
-/// into a buffer of about the same size, so at the limit a grid needs about 0.6 GB (2.6 GB
-/// for the closest point), and 2^26 answers take a minute or two on a few cores.
+/// The most points --grid takes: 2^26 (406^3). A field of the queries answered by one float
+/// keeps 4 bytes per point (VTK's writer compresses block by block), the closest point query
+/// about 60 (its record, then the field's arrays): at the limit about 0.3 GB and 4 GB of
+/// memory (docs/TOOLS.md gives the measured figures), and a minute or more of work.
 inline constexpr std::uint64_t max_grid_points = std::uint64_t{1} << 26;
 
 /// Points per axis.
