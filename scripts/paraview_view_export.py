@@ -19,6 +19,12 @@ import sys
 
 from paraview import simple
 
+try:
+    import paraview_style
+except ImportError:  # the GUI's --script may not put this folder on the path
+    sys.path.insert(0, os.environ.get("SG_SCRIPTS", "scripts"))
+    import paraview_style
+
 DEFAULT_MAX_DEPTH = 3
 
 
@@ -59,41 +65,23 @@ def show_export(vtm_path, max_depth=DEFAULT_MAX_DEPTH, view=None):
     depth_lut.RescaleTransferFunction(-0.5, max_depth + 0.5)
     depth_lut.AutomaticRescaleRangeMode = "Never"
     boxes.Opacity = float(os.environ.get("SG_BOX_OPACITY", 0.35))
-    boxes.SetScalarBarVisibility(view, True)
-    bar = simple.GetScalarBar(depth_lut, view)
-    bar.Title = "depth"
-    bar.ComponentTitle = ""
-    bar.TitleColor = bar.LabelColor = [0.1, 0.1, 0.1]
-    bar.TitleFontSize = bar.LabelFontSize = 14
+    bar = paraview_style.style_scalar_bar(boxes, depth_lut, view, "depth")
     bar.UseCustomLabels = 1
     bar.CustomLabels = list(range(max_depth + 1))
     bar.AddRangeLabels = 0
     bar.LabelFormat = "%.0f"
-    bar.WindowLocation = "Upper Right Corner"
     pipeline.update(cells=cells, threshold=shallow, edges=edges)
 
     mesh = extract(reader, "mesh")
-    surface = simple.Show(mesh, view)
-    simple.ColorBy(surface, None)
-    surface.AmbientColor = surface.DiffuseColor = [0.85, 0.85, 0.82]
+    paraview_style.show_plain(mesh, view)
     pipeline["mesh"] = mesh
 
-    view.Background = [1.0, 1.0, 1.0]
-    if hasattr(view, "UseColorPaletteForBackground"):
-        view.UseColorPaletteForBackground = 0
-    view.OrientationAxesVisibility = 0
-    view.ResetCamera()
-    camera = view.GetActiveCamera()
-    camera.Azimuth(35)
-    camera.Elevation(25)
-    view.ResetCamera()
-    camera.Dolly(1.25)
+    paraview_style.frame(view, azimuth=35, elevation=25, dolly=1.25)
     return view, pipeline
 
 
 def main(argv):
-    # The GUI's sys.argv holds its own options (--script=...): only plain words are ours.
-    args = [a for a in argv[1:] if not a.startswith("-")]
+    args = paraview_style.plain_arguments(argv)
     vtm_path = args[0] if args else os.environ.get("SG_EXPORT")
     if not vtm_path:
         raise SystemExit("usage: pvbatch paraview_view_export.py EXPORT.vtm [SHOT.png "
@@ -102,14 +90,7 @@ def main(argv):
     max_depth = int(args[2] if len(args) > 2 else
                     os.environ.get("SG_MAX_DEPTH", DEFAULT_MAX_DEPTH))
     view, _ = show_export(vtm_path, max_depth)
-    if screenshot:
-        view.ViewSize = [1000, 680]
-        simple.SaveScreenshot(screenshot, view, ImageResolution=[1000, 680],
-                              CompressionLevel="9")
-        # pvbatch exits with status 1 (a GLX error) if a render view is still open at exit.
-        simple.Delete(view)
-    else:
-        simple.Render(view)
+    paraview_style.save_or_render(view, screenshot)
 
 
 # Run unless imported as a module (tests/paraview/check_export.py imports show_export); the

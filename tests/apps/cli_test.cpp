@@ -212,7 +212,11 @@ std::vector<ToolLibraries> every_tool()
         {SG_STATS_EXE, "sg-stats", {}},
         {SG_TRACE_EXE, "sg-trace", {}},
         {SG_RAYS_EXE, "sg-rays", {}},
+#ifdef SG_APPS_TESTS_READ_VTK
+        {SG_POINTS_EXE, "sg-points", {"VTK"}},  // it writes --grid's fields through VTK
+#else
         {SG_POINTS_EXE, "sg-points", {}},
+#endif
 #ifdef SG_BENCH_HAS_EMBREE
         {SG_BENCH_EXE, "sg-bench", {"Embree"}},
 #else

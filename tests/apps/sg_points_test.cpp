@@ -428,10 +428,13 @@ TEST(SgPointsHelp, ExplainsEveryOptionWithRangeAndDefault)
     ScratchDir scratch;
     const ToolRun run = run_tool(SG_POINTS_EXE, {"--help"}, scratch);
     ASSERT_EQ(run.exit_code, 0) << describe(run);
-    for (const char* text : {"--points", "-o,--output", "--query", "occupancy", "--nsamples",
-                             "Range [1, 999]. Default 1.", "--threads", "Range [0, 1024]",
-                             "--strict", "--json", "-q,--quiet", "-v,--verbose", "--version",
-                             "SGPTS001", "SGOCC001", "text", "no converter", "Exit codes:"})
+    for (const char* text :
+         {"--points", "-o,--output", "--query", "occupancy", "distance", "signed-distance",
+          "closest", "--nsamples", "Range [1, 999]. Default 1.", "--max-distance",
+          "Default none.", "--grid NX,NY,NZ", "At most 67108864 points", "--padding",
+          "Range [0, 10]. Default 0.05.", "--threads", "Range [0, 1024]", "--strict", "--json",
+          "-q,--quiet", "-v,--verbose", "--version", "SGPTS001", "SGOCC001", "SGDST001",
+          "SGSDF001", "SGCLP001", ".vti", "text", "no converter", "Exit codes:"})
         EXPECT_NE(run.out.find(text), std::string::npos) << text;
     const ToolRun version = run_tool(SG_POINTS_EXE, {"--version"}, scratch);
     ASSERT_EQ(version.exit_code, 0) << describe(version);

@@ -1,5 +1,5 @@
-// Tests of formats/src/point_file.cpp and point_text.cpp: point and occupancy files round trip
-// with every bit, their bytes at the literal offsets of docs/FORMAT.md, text points line by
+// Tests of formats/src/point_file.cpp and point_text.cpp: point, occupancy, distance, signed
+// distance and closest point files round trip with every bit, their bytes at the literal offsets of docs/FORMAT.md, text points line by
 // line, the choice between a point file and text, and every refusal naming the file (and the
 // line).
 
@@ -187,6 +187,138 @@ TEST(OccupancyFile, MalformedFilesAreRefusedNamingTheFile)
     EXPECT_NE(error_of<FormatError>([&] { (void)read_occupancy_file(dir / "p.bin"); })
                   .find("not an occupancy file"),
               std::string::npos);
+}
+
+TEST(DistanceFiles, RoundTripAndLayout)
+{
+    test::ScratchDir dir;
+    const std::vector<float> distances{0.0f, 2.5f, inf, nan, 1e-30f};
+    write_distance_file(dir / "d.bin", distances);
+    std::vector<std::uint8_t> f = test::read_bytes(dir / "d.bin");
+    ASSERT_EQ(f.size(), 16u + 4u * distances.size());
+    EXPECT_EQ(std::string(f.begin(), f.begin() + 8), "SGDST001");
+    EXPECT_EQ(load_le<std::uint64_t>(f, 8), distances.size());
+    EXPECT_EQ(load_le<float>(f, 20), 2.5f);
+    EXPECT_EQ(load_le<float>(f, 24), inf);
+    std::vector<float> read = read_distance_file(dir / "d.bin");
+    ASSERT_EQ(read.size(), distances.size());
+    for (std::size_t i = 0; i < read.size(); ++i) EXPECT_EQ(bits(read[i]), bits(distances[i])) << i;
+
+    const std::vector<float> signed_distances{-1.5f, 0.0f, 3.0f, inf, nan};
+    write_signed_distance_file(dir / "s.bin", signed_distances);
+    f = test::read_bytes(dir / "s.bin");
+    ASSERT_EQ(f.size(), 16u + 4u * signed_distances.size());
+    EXPECT_EQ(std::string(f.begin(), f.begin() + 8), "SGSDF001");
+    EXPECT_EQ(load_le<std::uint64_t>(f, 8), signed_distances.size());
+    EXPECT_EQ(load_le<float>(f, 16), -1.5f);
+    read = read_signed_distance_file(dir / "s.bin");
+    ASSERT_EQ(read.size(), signed_distances.size());
+    for (std::size_t i = 0; i < read.size(); ++i)
+        EXPECT_EQ(bits(read[i]), bits(signed_distances[i])) << i;
+}
+
+TEST(DistanceFiles, ValuesNoQueryGivesAndOtherKindsAreRefused)
+{
+    test::ScratchDir dir;
+    const auto path = dir / "bad.bin";
+    write_distance_file(path, std::vector<float>{1.0f, -0.5f});
+    EXPECT_EQ(error_of<FormatError>([&] { (void)read_distance_file(path); }),
+              path.string() + ": point 1 has distance -0.500000, expected a distance >= 0, "
+                              "+infinity or NaN (at byte offset 20)");
+    write_signed_distance_file(path, std::vector<float>{-1.0f, -inf});
+    EXPECT_EQ(error_of<FormatError>([&] { (void)read_signed_distance_file(path); }),
+              path.string() + ": point 1 has signed distance -inf, expected a finite value, "
+                              "+infinity or NaN (at byte offset 20)");
+
+    // Each kind has its magic: a signed distance is never read as a distance, nor an
+    // occupancy as either.
+    write_signed_distance_file(dir / "s.bin", std::vector<float>{1.0f});
+    write_occupancy_file(dir / "o.bin", std::vector<float>{1.0f});
+    write_distance_file(dir / "d.bin", std::vector<float>{1.0f});
+    EXPECT_NE(error_of<FormatError>([&] { (void)read_distance_file(dir / "s.bin"); })
+                  .find("not a distance file: bad magic"),
+              std::string::npos);
+    EXPECT_NE(error_of<FormatError>([&] { (void)read_signed_distance_file(dir / "o.bin"); })
+                  .find("not a signed distance file"),
+              std::string::npos);
+    EXPECT_NE(error_of<FormatError>([&] { (void)read_occupancy_file(dir / "d.bin"); })
+                  .find("not an occupancy file"),
+              std::string::npos);
+
+    const std::vector<std::uint8_t> ok = test::read_bytes(dir / "d.bin");
+    test::write_bytes(path, test::prefix_of(ok, ok.size() - 1));
+    EXPECT_NE(error_of<FormatError>([&] { (void)read_distance_file(path); }).find("truncated"),
+              std::string::npos);
+}
+
+TEST(ClosestPointFile, RoundTripAndLayout)
+{
+    test::ScratchDir dir;
+    std::vector<ClosestPoint> closest(3);
+    closest[0] = {1.25f, 7, 0.25f, 0.5f, {1.0f, -2.0f, 3.5f}};
+    closest[1] = {inf, invalid_triangle, 0.0f, 0.0f, {}};  // beyond max_distance
+    closest[2] = {nan, invalid_triangle, 0.0f, 0.0f, {}};  // a non-finite point
+    write_closest_point_file(dir / "c.bin", closest);
+    const std::vector<std::uint8_t> f = test::read_bytes(dir / "c.bin");
+    ASSERT_EQ(f.size(), 16u + 28u * closest.size());
+    EXPECT_EQ(std::string(f.begin(), f.begin() + 8), "SGCLP001");
+    EXPECT_EQ(load_le<std::uint64_t>(f, 8), closest.size());
+    EXPECT_EQ(load_le<std::uint32_t>(f, 16), 7u);
+    EXPECT_EQ(load_le<float>(f, 20), 1.25f);
+    EXPECT_EQ(load_le<float>(f, 24), 0.25f);
+    EXPECT_EQ(load_le<float>(f, 28), 0.5f);
+    EXPECT_EQ(load_le<float>(f, 32), 1.0f);
+    EXPECT_EQ(load_le<float>(f, 36), -2.0f);
+    EXPECT_EQ(load_le<float>(f, 40), 3.5f);
+    EXPECT_EQ(load_le<std::uint32_t>(f, 44), 0xFFFFFFFFu);
+    EXPECT_EQ(load_le<float>(f, 48), inf);
+    EXPECT_EQ(load_le<float>(f, 52), 0.0f);
+    EXPECT_TRUE(std::isnan(load_le<float>(f, 60))) << "no answer has no point: x is NaN";
+    EXPECT_TRUE(std::isnan(load_le<float>(f, 44 + 28 + 4)));
+
+    const std::vector<ClosestPoint> read = read_closest_point_file(dir / "c.bin");
+    ASSERT_EQ(read.size(), closest.size());
+    EXPECT_EQ(read[0].triangle, 7u);
+    EXPECT_EQ(read[0].distance, 1.25f);
+    EXPECT_EQ(read[0].u, 0.25f);
+    EXPECT_EQ(read[0].v, 0.5f);
+    EXPECT_EQ(read[0].point, (Vec3f{1.0f, -2.0f, 3.5f}));
+    EXPECT_FALSE(read[1].is_hit());
+    EXPECT_EQ(read[1].distance, inf);
+    EXPECT_TRUE(std::isnan(read[1].point.x));
+    EXPECT_FALSE(read[2].is_hit());
+    EXPECT_TRUE(std::isnan(read[2].distance));
+}
+
+TEST(ClosestPointFile, RecordsWhoseTriangleAndDistanceDisagreeAreRefused)
+{
+    test::ScratchDir dir;
+    std::vector<ClosestPoint> closest(2);
+    closest[0] = {1.0f, 3, 0.0f, 0.0f, {0.0f, 0.0f, 0.0f}};
+    closest[1] = {2.0f, 4, 0.0f, 0.0f, {0.0f, 0.0f, 0.0f}};
+    write_closest_point_file(dir / "ok.bin", closest);
+    const std::vector<std::uint8_t> ok = test::read_bytes(dir / "ok.bin");
+    const auto path = dir / "bad.bin";
+    const auto read = [&] { (void)read_closest_point_file(path); };
+
+    std::vector<std::uint8_t> bad = ok;
+    store_le<float>(bad, 16 + 28 + 4, inf);
+    test::write_bytes(path, bad);
+    EXPECT_EQ(error_of<FormatError>(read),
+              path.string() + ": point 1 has triangle 4 and distance inf, expected a finite, "
+                              "non-negative distance for a triangle (at byte offset 44)");
+    bad = ok;
+    store_le<std::uint32_t>(bad, 16, 0xFFFFFFFFu);
+    test::write_bytes(path, bad);
+    EXPECT_NE(error_of<FormatError>(read).find("point 0 has triangle 4294967295 and distance "
+                                               "1.000000, expected +infinity or NaN without a "
+                                               "triangle"),
+              std::string::npos);
+
+    test::write_bytes(path, test::prefix_of(ok, ok.size() - 4));
+    EXPECT_NE(error_of<FormatError>(read).find("truncated"), std::string::npos);
+    write_distance_file(path, std::vector<float>{1.0f});
+    EXPECT_NE(error_of<FormatError>(read).find("not a closest point file"), std::string::npos);
 }
 
 }  // namespace

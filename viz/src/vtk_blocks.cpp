@@ -9,6 +9,7 @@
 
 #include "splitgrid/build_config.hpp"
 #include "splitgrid/version.hpp"
+#include "vtk_arrays.hpp"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -24,22 +25,6 @@
 
 namespace sg::viz::detail {
 namespace {
-
-template <class Array>
-vtkSmartPointer<Array> named_array(const char* name, vtkIdType tuples)
-{
-    auto array = vtkSmartPointer<Array>::New();
-    array->SetName(name);
-    array->SetNumberOfTuples(tuples);
-    return array;
-}
-
-vtkIdType as_id(std::uint64_t count)
-{
-    if (count > static_cast<std::uint64_t>(std::numeric_limits<vtkIdType>::max()))
-        throw std::length_error("export: more elements than VTK can index");
-    return static_cast<vtkIdType>(count);
-}
 
 /// Points of `count` cells of `corners` corners each, filled by the caller, and the cells
 /// that use them: cell c is points corners*c .. corners*c + corners - 1, so no two cells
@@ -106,22 +91,6 @@ void set_quad(OwnPointCells& out, vtkIdType cell, const Aabb& quad, int axis)
     }
 }
 
-template <class Array, class Value>
-void add_field(vtkFieldData& fields, const char* name, Value value)
-{
-    auto array = named_array<Array>(name, 1);
-    array->SetValue(0, value);
-    fields.AddArray(array);
-}
-
-void add_string_field(vtkFieldData& fields, const char* name, const std::string& value)
-{
-    auto array = vtkSmartPointer<vtkStringArray>::New();
-    array->SetName(name);
-    array->InsertNextValue(value);
-    fields.AddArray(array);
-}
-
 }  // namespace
 
 vtkSmartPointer<vtkUnstructuredGrid> make_cell_block(const SplitGrid& grid,
@@ -130,7 +99,7 @@ vtkSmartPointer<vtkUnstructuredGrid> make_cell_block(const SplitGrid& grid,
                                                      const Selection& selection,
                                                      CellBlockKind kind, std::uint64_t count)
 {
-    const vtkIdType n = as_id(count);
+    const vtkIdType n = as_id(count, "export");
     OwnPointCells geometry(n, 8);
     auto depth = named_array<vtkTypeInt32Array>("depth", n);
     auto node_id = named_array<vtkTypeInt64Array>("node_id", n);
@@ -173,7 +142,7 @@ vtkSmartPointer<vtkUnstructuredGrid> make_cell_block(const SplitGrid& grid,
 vtkSmartPointer<vtkPolyData> make_plane_block(const SplitGrid& grid, const Hierarchy& hierarchy,
                                               const std::vector<std::uint32_t>& nodes)
 {
-    const vtkIdType n = as_id(2 * static_cast<std::uint64_t>(nodes.size()));
+    const vtkIdType n = as_id(2 * static_cast<std::uint64_t>(nodes.size()), "export");
     OwnPointCells geometry(n, 4);
     auto depth = named_array<vtkTypeInt32Array>("depth", n);
     auto node_id = named_array<vtkTypeInt64Array>("node_id", n);
@@ -207,8 +176,8 @@ vtkSmartPointer<vtkPolyData> make_plane_block(const SplitGrid& grid, const Hiera
 
 vtkSmartPointer<vtkPolyData> make_mesh_block(const SplitGrid& grid, const MeshView& mesh)
 {
-    const vtkIdType vertices = as_id(mesh.vertices.size());
-    const vtkIdType triangles = as_id(mesh.triangles.size());
+    const vtkIdType vertices = as_id(mesh.vertices.size(), "export");
+    const vtkIdType triangles = as_id(mesh.triangles.size(), "export");
 
     auto coordinates = vtkSmartPointer<vtkFloatArray>::New();
     coordinates->SetNumberOfComponents(3);

@@ -1,9 +1,7 @@
 #include "splitgrid/viz/vtk_export.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <cstddef>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -11,7 +9,7 @@
 #include "selection.hpp"
 #include "staged_folder.hpp"
 #include "vtk_blocks.hpp"
-#include "vtk_messages.hpp"
+#include "xml_writing.hpp"
 
 #include <vtkCompositeDataSet.h>
 #include <vtkDataSet.h>
@@ -112,29 +110,11 @@ std::vector<ExportedFile> list_files(const fs::path& folder)
 void write_multiblock(vtkMultiBlockDataSet& blocks, const fs::path& vtm_path,
                       const fs::path& out_dir)
 {
-    detail::VtkMessageCapture messages;
     vtkNew<vtkXMLMultiBlockDataWriter> writer;
     writer->SetInputData(&blocks);
     writer->SetFileName(vtm_path.c_str());
-    // Raw appended binary with 64-bit block headers, zlib compressed: the compact encoding
-    // (base64 adds a third), and 64-bit headers allow blocks over 4 GiB. The composite writer
-    // hands these settings to the writer of each block.
-    writer->SetDataModeToAppended();
-    writer->EncodeAppendedDataOff();
-    writer->SetHeaderTypeToUInt64();
-    writer->SetCompressorTypeToZLib();
-    // VTK's XML writers report a failed write (a full disk, a file size limit) only as a
-    // failed pipeline request; the system's error code is the only hint of the cause.
-    errno = 0;
-    const int ok = writer->Write();
-    const int error = errno;
-    const std::string message = messages.first_message();
-    if (ok != 1 || writer->GetErrorCode() != 0 || !message.empty()) {
-        std::string what = out_dir.string() + ": writing the export failed, nothing was written";
-        if (!message.empty()) what += " (VTK: " + message + ")";
-        if (error != 0) what += " (last system error: " + std::string(std::strerror(error)) + ")";
-        throw IoError(what);
-    }
+    detail::write_xml(*writer, out_dir.string() + ": writing the export failed, nothing was "
+                                                  "written");
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <span>
 #include <vector>
 
+#include "splitgrid/closest_point.hpp"
 #include "splitgrid/vec3.hpp"
 
 namespace sg {
@@ -15,9 +16,9 @@ class OutputFile;
 /// uint64 count, then one fixed-size record per point, one numpy.fromfile away.
 ///
 /// Each kind of point query answer has a magic of its own, so a reader never takes one kind
-/// for another and every file keeps the 16-byte header: "SGOCC001", one float32 per point
-/// (occupancy). The distance queries take the same form with their own magics
-/// (docs/FORMAT.md, 6.3).
+/// for another and every file keeps the 16-byte header (docs/FORMAT.md, 6.6): "SGOCC001"
+/// (occupancy), "SGDST001" (distance) and "SGSDF001" (signed distance), one float32 per point
+/// each; "SGCLP001" (closest point), one 28-byte record per point.
 
 /// Writes a point file: magic "SGPTS001", a uint64 count, then per point float32 x, y, z,
 /// stored as given (NaN and infinities too), atomically into an output reserved earlier
@@ -58,5 +59,46 @@ void write_occupancy_file(const std::filesystem::path& path, std::span<const flo
 /// Reads an occupancy file with the checks of read_point_file, and refuses a value other than
 /// 0, 1 or NaN (naming the point and its byte offset).
 [[nodiscard]] std::vector<float> read_occupancy_file(const std::filesystem::path& path);
+
+/// Writes a distance file: magic "SGDST001", a uint64 count, then one float32 per point: the
+/// distance to the mesh (ClosestPoint::distance), +infinity beyond the query's max_distance,
+/// NaN for a point with a non-finite coordinate.
+void write_distance_file(OutputFile& output, std::span<const float> distances);
+/// The same to `path`.
+void write_distance_file(const std::filesystem::path& path, std::span<const float> distances);
+
+/// Reads a distance file with the checks of read_point_file, and refuses a negative value
+/// (naming the point and its byte offset): a distance file holds no sign.
+[[nodiscard]] std::vector<float> read_distance_file(const std::filesystem::path& path);
+
+/// Writes a signed distance file: magic "SGSDF001", a uint64 count, then one float32 per
+/// point: the distance, negative inside the closed mesh (signed_distances), +infinity beyond
+/// the query's max_distance, NaN for a point with a non-finite coordinate.
+void write_signed_distance_file(OutputFile& output, std::span<const float> signed_distances);
+/// The same to `path`.
+void write_signed_distance_file(const std::filesystem::path& path,
+                                std::span<const float> signed_distances);
+
+/// Reads a signed distance file with the checks of read_point_file, and refuses -infinity,
+/// which no query gives (beyond max_distance the answer is +infinity, whatever the side).
+[[nodiscard]] std::vector<float> read_signed_distance_file(const std::filesystem::path& path);
+
+/// Writes a closest point file: magic "SGCLP001", a uint64 count, then per point 28 bytes:
+/// uint32 triangle id, float32 distance, u, v (barycentrics on the triangle), x, y, z (the
+/// closest point): the first 16 bytes in the places of a hit file's triangle, t, u, v. A point
+/// without an answer (beyond max_distance: distance +infinity; a non-finite point: NaN) has
+/// triangle id 0xFFFFFFFF, u = v = 0 and x, y, z NaN, so that no script takes the origin for
+/// a closest point.
+void write_closest_point_file(OutputFile& output, std::span<const ClosestPoint> closest);
+/// The same to `path`.
+void write_closest_point_file(const std::filesystem::path& path,
+                              std::span<const ClosestPoint> closest);
+
+/// Reads a closest point file with the checks of read_point_file, and refuses a record whose
+/// triangle id and distance disagree (a triangle with a distance that is not finite and
+/// non-negative, or no triangle with a finite distance), naming the point and its byte
+/// offset. Records are returned as stored: a point without an answer has x, y, z NaN.
+[[nodiscard]] std::vector<ClosestPoint> read_closest_point_file(
+    const std::filesystem::path& path);
 
 }  // namespace sg
