@@ -16,6 +16,11 @@ else, warnings and errors, goes to stderr):
                           scene size
   dynamic.png             the dynamic workload: time per frame (update + trace) against rays
                           per frame, per scene and structure
+  point_workloads.png     the point and multi-hit workloads: queries per second of every
+                          method (our structures, CGAL) per scene, one panel per workload
+  inside_tests.png        the inside tests: points per second on one thread against wrong
+                          answers, per method and point set (with Open3D's wrong answers when
+                          scripts/bench_inside_open3d.py has added them)
 Charts whose data the run did not measure (no sweep, no scale series) are skipped.
 """
 
@@ -237,6 +242,91 @@ def dynamic(results, out_dir):
     return path
 
 
+def point_workloads(results, out_dir):
+    scenes = [s for s in results["scenes"] if s.get("point_workloads")]
+    if not scenes:
+        return None
+    threads = str(results["plan"]["thread_counts"][0])
+    panels = []
+    for scene in scenes:
+        for w in scene["point_workloads"]:
+            key = (w["query"], w["points"])
+            if key not in panels:
+                panels.append(key)
+    methods = list(dict.fromkeys(m["method"] for s in scenes for w in s["point_workloads"]
+                                 for m in w["methods"]))
+    fig, axes = plt.subplots(len(panels), 1, figsize=(max(7, 1.2 * len(scenes) + 3),
+                                                      2.6 * len(panels) + 1), squeeze=False)
+    width = 0.8 / max(1, len(methods))
+    for ax, (query, points) in zip(axes[:, 0], panels):
+        for k, name in enumerate(methods):
+            xs, ys = [], []
+            for i, scene in enumerate(scenes):
+                for w in scene["point_workloads"]:
+                    if (w["query"], w["points"]) != (query, points):
+                        continue
+                    for m in w["methods"]:
+                        rate = m["queries_per_s"].get(threads)
+                        if m["method"] == name and rate:
+                            xs.append(i + (k - (len(methods) - 1) / 2) * width)
+                            ys.append(rate)
+            ax.bar(xs, ys, width=width, color=colour(name), label=label(name))
+        unit = "rays" if query == "count" else "points"
+        ax.set_title("%s, %s %s (%s/s, %s thread%s; missing bar: not answered or wrong)"
+                     % (query, points, unit, unit, threads, "" if threads == "1" else "s"),
+                     fontsize=9)
+        ax.set_yscale("log")
+        ax.grid(axis="y", alpha=0.3)
+        ax.set_xticks(range(len(scenes)))
+        ax.set_xticklabels([])
+    axes[-1, 0].set_xticklabels(["%s\n%s tris" % (s["scene"], human(s["triangles"]))
+                                 for s in scenes], rotation=45, ha="right", fontsize=8)
+    axes[0, 0].legend(ncol=min(len(methods), 3), fontsize=8, loc="upper left")
+    fig.suptitle("Point and multi-hit workloads: every method checked against brute force first")
+    path = os.path.join(out_dir, "point_workloads.png")
+    save(fig, path)
+    return path
+
+
+def inside_tests(results, out_dir, open3d=None):
+    """Points per second (1 thread) against wrong answers on each inside test set. `open3d`:
+    the sets' entries of scripts/bench_inside_open3d.py (wrong answers, not timed)."""
+    tests = results.get("inside_tests") or []
+    if not tests:
+        return None
+    markers = "osD^v<>Pp*hX"
+    fig, ax = plt.subplots(figsize=(9, 6))
+    sets = [t["set"] for t in tests]
+    rates = [m["points_per_s"] for t in tests for m in t["methods"] if m["status"] == "ok"]
+    not_timed = min(rates) / 4 if rates else 1.0
+    for i, t in enumerate(tests):
+        decided = max(1, t["points"] - t["undecided"])
+        entries = [(m["method"], m["points_per_s"], m["wrong"]) for m in t["methods"]
+                   if m["status"] == "ok"]
+        for o in open3d or []:
+            if o["set"] == t["set"]:
+                entries.append(("open3d", not_timed, o["wrong_occupancy"]))
+        for method, rate, wrong in entries:
+            ax.scatter(rate, max(100.0 * wrong / decided, 0.01), s=55, color=colour(method),
+                       marker=markers[i % len(markers)],
+                       label="%s | %s" % (label(method), t["set"]))
+    if open3d:
+        ax.axvline(not_timed, color=colour("open3d"), linewidth=0.6, alpha=0.5)
+        ax.text(not_timed * 1.05, 0.012, "Open3D: not timed (wrong)", fontsize=7,
+                color=colour("open3d"), rotation=90, va="bottom")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("points per second (1 thread, median of passes)")
+    ax.set_ylabel("wrong answers, % of the points the oracle decides (0 drawn at 0.01%)")
+    ax.set_title("Inside tests: rays from the points meet edges and vertices (%d sets)"
+                 % len(sets), fontsize=10)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=6, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    path = os.path.join(out_dir, "inside_tests.png")
+    save(fig, path)
+    return path
+
+
 def main(argv):
     if len(argv) != 3:
         sys.stderr.write("usage: bench_charts.py RESULTS_JSON OUT_DIR\n")
@@ -252,7 +342,8 @@ def main(argv):
         return 2
     made = [p for p in (figure3(results, argv[2]), speed_vs_accuracy(results, argv[2]),
                         sweep(results, argv[2]), memory_scaling(results, argv[2]),
-                        dynamic(results, argv[2])) if p]
+                        dynamic(results, argv[2]), point_workloads(results, argv[2]),
+                        inside_tests(results, argv[2])) if p]
     for p in made:
         print("wrote %s" % p)
     return 0

@@ -12,6 +12,9 @@ STRUCTURE_LABELS = {
     "bvh_refit": "BVH, refitted",
     "embree_low": "Embree 3 LOW",
     "embree_refit": "Embree 3, refitted",
+    "cgal": "CGAL 5.5",
+    "splitgrid_no_tie_break": "Split Grid, no tie-break",
+    "open3d": "Open3D 0.16",
 }
 STRUCTURE_COLOURS = {
     "splitgrid": "#d62728",
@@ -23,6 +26,9 @@ STRUCTURE_COLOURS = {
     "bvh_refit": "#17becf",
     "embree_low": "#c5b0d5",
     "embree_refit": "#8c564b",
+    "cgal": "#bcbd22",
+    "splitgrid_no_tie_break": "#ff7f0e",
+    "open3d": "#e377c2",
 }
 
 

@@ -40,6 +40,7 @@ packages=(
     libembree-dev libvtk9-dev
     python3-matplotlib python3-numpy  # charts (sg-bench), the numpy lines of docs/FORMAT.md
     pybind11-dev python3-dev  # the Python package (python/, docs/PYTHON.md)
+    libcgal-dev  # CGAL, sg-bench's reference for point queries (GPL, sg-bench only: SG_WITH_CGAL)
     clang-14 libclang-rt-14-dev  # libFuzzer for tests/fuzz (scripts/test.sh)
 )
 if [[ "${with_paraview}" == true ]]; then
@@ -72,7 +73,9 @@ if ((${#missing[@]} > 0)); then
         apt-get install -y --no-install-recommends "${missing[@]}"
 fi
 
-cmake_args=(-DSG_WARNINGS_AS_ERRORS="${werror}")
+# CGAL is off by default in CMake (GPL, optional); the tree this script makes, which CI tests
+# and scripts/bench.sh runs, measures it.
+cmake_args=(-DSG_WARNINGS_AS_ERRORS="${werror}" -DSG_WITH_CGAL=ON)
 require_paraview=OFF
 if [[ "${with_paraview}" == true ]]; then
     # ParaView's Python modules live in python3-paraview, which conflicts with python3-vtk9

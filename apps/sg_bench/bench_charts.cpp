@@ -20,6 +20,9 @@ constexpr Chart chart_list[] = {
     {"sweep_build_vs_trace.png", "the parameter sweep (left out by --no-sweep)"},
     {"memory_scaling.png", "the scale series (--scale-sizes)"},
     {"dynamic.png", "the dynamic workload (--dynamic-rigid or --dynamic-deform)"},
+    {"point_workloads.png",
+     "a point workload (--count-rays, --occupancy-points or --closest-points above 0)"},
+    {"inside_tests.png", "the inside tests (--inside-vertices above 0)"},
 };
 
 /// Seconds the chart script may run: matplotlib draws the charts of a full run in seconds,
@@ -39,6 +42,8 @@ bool chart_has_data(const Chart& chart, const BenchPlan& plan, bool has_scale_mo
     if (file == "speed_vs_accuracy.png") return plan.watertight_rays > 0;
     if (file == "sweep_build_vs_trace.png") return plan.sweep;
     if (file == "memory_scaling.png") return !plan.scale_sizes.empty() && has_scale_model;
+    if (file == "point_workloads.png") return plan.points.any();
+    if (file == "inside_tests.png") return plan.points.inside_vertices > 0;
     return true;
 }
 

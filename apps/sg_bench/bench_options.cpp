@@ -2,6 +2,8 @@
 
 #include "bench_options.hpp"
 
+#include "cgal_peer.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -83,13 +85,19 @@ void apply_quick_defaults(const CLI::App& app, BenchOptions& o)
     if (unset("--watertight-triangles")) p.watertight_triangles = 10'000;
     if (unset("--watertight-rays")) p.watertight_rays = 20'000;
     if (unset("--sweep-rays")) p.sweep_rays = 20'000;
+    if (unset("--count-rays")) p.points.count_rays = 2'000;
+    if (unset("--occupancy-points")) p.points.occupancy_points = 2'000;
+    if (unset("--closest-points")) p.points.closest_points = 500;
+    if (unset("--inside-vertices")) p.points.inside_vertices = 10;
 }
 
-/// Embree, for --version, when this build measures it.
-std::vector<sg::LibraryVersion> embree_library()
+/// Embree and CGAL, for --version, where this build measures them.
+std::vector<sg::LibraryVersion> peer_libraries()
 {
-    if (!has_embree()) return {};
-    return {{"Embree", embree_version()}};
+    std::vector<sg::LibraryVersion> peers;
+    if (has_embree()) peers.push_back({"Embree", embree_version()});
+    if (has_cgal()) peers.push_back({"CGAL", cgal_version()});
+    return peers;
 }
 
 /// The thread counts of --threads (or 1 and the hardware's), each at most the hardware's
@@ -125,6 +133,10 @@ void add_bench_options(CLI::App& app, BenchOptions& o)
         "on a sample of every workload, and every ray against the first structure). Then rays\n"
         "from inside a closed sphere for each triangle test and padding (leaks per million),\n"
         "a Split Grid parameter sweep on the first scene, and memory against scene size.\n"
+        "Point workloads: hit counts of incoherent rays, inside or outside (closed meshes)\n"
+        "and closest points of random and near points, for our structures and CGAL (when\n"
+        "built with SG_WITH_CGAL), answers checked before speed; inside tests where rays\n"
+        "meet edges and vertices (a tessellated cube, an icosphere, each closed scene).\n"
         "Dynamic scenes (--dynamic-rigid, --dynamic-deform; with them MESH may be left\n"
         "out): every frame, each structure rebuilt or refitted on the moved mesh, then one\n"
         "frame of path rays traced per --dynamic-rays budget; time per frame against rays.",
@@ -136,10 +148,12 @@ void add_bench_options(CLI::App& app, BenchOptions& o)
         "of scripts/bench_charts.py (python3-matplotlib): figure3.png, speed_vs_accuracy.png\n"
         "(not with --watertight-rays 0), sweep_build_vs_trace.png (not with --no-sweep) and\n"
         "memory_scaling.png (only with --scale-sizes), dynamic.png (only with a dynamic\n"
-        "scene). stdout holds the table; progress,\n"
+        "scene), point_workloads.png (not with --count-rays, --occupancy-points and\n"
+        "--closest-points all 0) and inside_tests.png (not with --inside-vertices 0).\n"
+        "stdout holds the table; progress,\n"
         "notices and the list of files written go to stderr. Timings depend on the\n"
         "machine's load: compare structures within one run.",
-        embree_library());
+        peer_libraries());
     app.add_option("MESH", o.meshes, "Scenes to measure (any mesh Assimp reads)");
     apps::add_output_option(app, o.out,
                                 apps::help_text("Output folder, created if missing (its "
@@ -203,6 +217,31 @@ void add_bench_options(CLI::App& app, BenchOptions& o)
                                "workload and its chart).");
     apps::add_count_option(app, "--sweep-rays", o.plan.sweep_rays, 1, std::uint64_t{1} << 30,
                                "Path rays traced per sweep point.");
+    apps::add_count_option(app, "--count-rays", o.plan.points.count_rays, 0,
+                           std::uint64_t{1} << 30,
+                           "Rays of the count workload: the first of the incoherent rays, each "
+                           "ray's hits counted (count_intersections; 0 skips it).");
+    apps::add_count_option(app, "--occupancy-points", o.plan.points.occupancy_points, 0,
+                           std::uint64_t{1} << 30,
+                           "Points of each occupancy workload (random in the box, near the "
+                           "surface; closed meshes only; 0 skips them).");
+    apps::add_count_option(app, "--closest-points", o.plan.points.closest_points, 0,
+                           std::uint64_t{1} << 30,
+                           "Points of each closest point workload (random, near; 0 skips "
+                           "them).");
+    apps::add_count_option(app, "--inside-vertices", o.plan.points.inside_vertices, 0,
+                           std::uint64_t{1} << 20,
+                           "Vertices of a closed scene the inside test takes points near (0 "
+                           "skips the inside tests, the cube's and the icosphere's too).");
+    app.add_option("--save-points", o.plan.save_points,
+                   apps::help_text("Also write the point sets measured into this folder "
+                                   "(created if missing; its parent must exist): each scene as "
+                                   "a .sg file, its points as point files, the inside tests' "
+                                   "points with the oracle's answers, for "
+                                   "scripts/bench_inside_open3d.py and scripts/bench_python.py "
+                                   "--points.",
+                                   {}, "none"))
+        ->type_name("DIR");
     app.add_option("--dynamic-rigid", o.dynamic_rigid,
                    apps::help_text("Dynamic workload: copies of this mesh (enough for "
                                        "--dynamic-triangles) turning and circling on an arena, "

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <sstream>
 
+#include "cgal_peer.hpp"
+#include "point_report.hpp"
 #include "splitgrid/version.hpp"
 
 #include <spdlog/fmt/fmt.h>
@@ -13,15 +15,6 @@ namespace {
 using apps::Json;
 using apps::per_triangle;
 
-// {"1": x, "2": y}: values keyed by thread count.
-Json by_threads(const std::vector<double>& values, const BenchPlan& plan)
-{
-    Json j = Json::object();
-    for (std::size_t k = 0; k < values.size() && k < plan.thread_counts.size(); ++k)
-        j[std::to_string(plan.thread_counts[k])] = values[k];
-    return j;
-}
-
 const StructureResult* find_structure(const SceneResult& scene, const std::string& name)
 {
     for (const StructureResult& s : scene.structures)
@@ -31,6 +24,14 @@ const StructureResult* find_structure(const SceneResult& scene, const std::strin
 
 }  // namespace
 
+Json by_threads(const std::vector<double>& values, const BenchPlan& plan)
+{
+    Json j = Json::object();
+    for (std::size_t k = 0; k < values.size() && k < plan.thread_counts.size(); ++k)
+        j[std::to_string(plan.thread_counts[k])] = values[k];
+    return j;
+}
+
 Json results_json(const BenchResults& results, const BenchPlan& plan, const RunInfo& info)
 {
     Json j;
@@ -38,6 +39,7 @@ Json results_json(const BenchResults& results, const BenchPlan& plan, const RunI
     j["tool"] = "sg-bench";
     j["splitgrid_version"] = version_string;
     j["embree_version"] = embree_version();
+    j["cgal_version"] = cgal_version();
     j["machine"] = {{"cpu", info.machine},
                     {"hardware_threads", info.hardware_threads},
                     {"compiler", info.compiler},
@@ -60,6 +62,12 @@ Json results_json(const BenchResults& results, const BenchPlan& plan, const RunI
                  {"scale_sizes", plan.scale_sizes},
                  {"seed", plan.seed},
                  {"mesh_order", plan.mesh_order},
+                 {"count_rays", plan.points.count_rays},
+                 {"occupancy_points", plan.points.occupancy_points},
+                 {"closest_points", plan.points.closest_points},
+                 {"point_oracle_points", plan.points.oracle_points},
+                 {"point_oracle_budget", plan.points.oracle_budget},
+                 {"inside_vertices", plan.points.inside_vertices},
                  {"split_grid_config", apps::to_json(plan.configs.split_grid)}};
 
     Json scenes = Json::array();
@@ -106,9 +114,11 @@ Json results_json(const BenchResults& results, const BenchPlan& plan, const RunI
             structures.push_back(st);
         }
         s["structures"] = structures;
+        add_point_json(s, scene, plan);
         scenes.push_back(s);
     }
     j["scenes"] = scenes;
+    j["inside_tests"] = inside_tests_json(results.inside_tests);
 
     Json accuracy = Json::array();
     for (const AccuracyResult& a : results.accuracy)
@@ -231,6 +241,7 @@ std::string results_table(const BenchResults& results, const BenchPlan& plan)
                                far ? far->misses_per_million() : 0.0, a.mrays_per_s);
         }
     }
+    out += point_tables(results, plan);
     if (!results.sweep.empty()) {
         out += fmt::format("\nSplit Grid parameter sweep on {} ({} threads)\n", results.sweep_scene,
                            last_threads);

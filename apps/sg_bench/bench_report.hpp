@@ -20,6 +20,9 @@ struct RunInfo {
     double seconds = 0.0;  ///< wall time of the whole run
 };
 
+/// {"1": x, "2": y}: `values` keyed by the plan's thread counts.
+[[nodiscard]] apps::Json by_threads(const std::vector<double>& values, const BenchPlan& plan);
+
 /// The whole run as JSON (schema_version 1).
 [[nodiscard]] apps::Json results_json(const BenchResults& results, const BenchPlan& plan,
                                       const RunInfo& info);

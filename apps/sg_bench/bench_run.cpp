@@ -12,8 +12,10 @@
 
 #include "build_memory.hpp"
 #include "cli_common.hpp"
+#include "point_files.hpp"
 #include "splitgrid/arena_scene.hpp"
 #include "splitgrid/error.hpp"
+#include "splitgrid/mesh_edges.hpp"
 #include "splitgrid/mesh_order.hpp"
 #include "splitgrid/traverse.hpp"
 
@@ -228,6 +230,19 @@ public:
         std::vector<OracleSample> oracles;
         for (const Workload& w : workloads) oracles.push_back(oracle_sample(mesh, w, oracle_count));
 
+        std::unique_ptr<PointBench> points;
+        if (plan_.points.any()) {
+            const auto incoherent =
+                std::find_if(workloads.begin(), workloads.end(),
+                             [](const Workload& w) { return w.name == "incoherent"; });
+            points = std::make_unique<PointBench>(
+                mesh, std::span<const Ray>(incoherent->rays), plan_.points, plan_.thread_counts,
+                plan_.trace_repeats, plan_.seed,
+                [&](const std::string& line) { say(scene.name + ": " + line); });
+            result.edges_counted = true;
+            result.edges = points->edges();
+        }
+
         std::vector<Answers> reference_answers(workloads.size());
         for (const std::string& name : plan_.structures) {
             StructureResult sr;
@@ -273,10 +288,66 @@ public:
                         count_disagreements(reference_answers[wi], answers, w.any_hit, exact);
                 sr.workloads.push_back(wr);
             }
+            if (points) {
+                if (const PointQueries* queries = built->point_queries())
+                    points->measure(name, *queries);
+                else
+                    points->skip(name, "no hit counts or point queries (Debian's Embree 3 lacks "
+                                       "the filter functions a hit count needs)");
+            }
             result.structures.push_back(std::move(sr));
+        }
+        std::unique_ptr<CgalPeer> cgal;
+        if (points && has_cgal()) {
+            say(scene.name + ": building CGAL's Surface_mesh and trees");
+            cgal = timed_cgal_build(mesh, plan_.build_repeats, result.cgal);
+            points->measure("cgal", *cgal);
+        }
+        if (points) result.point_workloads = points->results();
+        const bool closed = (points ? points->edges() : edge_report(mesh)).is_closed();
+        if (plan_.points.inside_vertices > 0 && closed) {
+            say(scene.name + ": inside test near " + std::to_string(plan_.points.inside_vertices) +
+                " vertices");
+            const InsideSet set = near_vertex_set(mesh, scene.name, plan_.points.inside_vertices);
+            const auto grid = build_structure("splitgrid", mesh, plan_.configs, 0);
+            inside_tests_.push_back(run_inside_test(set, *grid->point_queries(), cgal.get(),
+                                                    plan_.trace_repeats));
+            if (!plan_.save_points.empty()) save_inside_set(plan_.save_points, set);
+        }
+        if (!plan_.save_points.empty()) {
+            save_scene(plan_.save_points, scene.name, mesh, plan_.configs.split_grid);
+            if (points) save_point_sets(plan_.save_points, scene.name, *points);
         }
         if (keep_workloads) *keep_workloads = std::move(workloads);
         return result;
+    }
+
+    /// The inside tests of the tessellated cube and the icosphere, then those of the closed
+    /// scenes made by run_scene.
+    std::vector<InsideTestResult> run_inside_tests()
+    {
+        std::vector<InsideTestResult> out;
+        const Mesh cube = inside_test_cube();
+        const Mesh sphere = inside_test_icosphere();
+        const std::pair<const Mesh*, std::vector<InsideSet>> shapes[] = {
+            {&cube, cube_inside_sets(cube)}, {&sphere, icosphere_inside_sets(sphere)}};
+        for (const auto& [shape, sets] : shapes) {
+            const MeshView mesh = shape->view();
+            const auto grid = build_structure("splitgrid", mesh, plan_.configs, 0);
+            std::unique_ptr<CgalPeer> cgal;
+            if (has_cgal()) cgal = build_cgal(mesh);
+            for (const InsideSet& set : sets) {
+                say("inside test " + set.name + ": " + std::to_string(set.points.size()) +
+                    " points");
+                out.push_back(run_inside_test(set, *grid->point_queries(), cgal.get(),
+                                              plan_.trace_repeats));
+                if (!plan_.save_points.empty()) save_inside_set(plan_.save_points, set);
+            }
+            if (!plan_.save_points.empty() && !sets.empty())
+                save_scene(plan_.save_points, sets.front().scene, mesh, plan_.configs.split_grid);
+        }
+        out.insert(out.end(), inside_tests_.begin(), inside_tests_.end());
+        return out;
     }
 
     std::vector<AccuracyResult> run_accuracy()
@@ -441,6 +512,7 @@ private:
 
     const BenchPlan& plan_;
     const BenchLog& log_;
+    std::vector<InsideTestResult> inside_tests_;  // of the closed scenes, in scene order
 };
 
 }  // namespace
@@ -515,6 +587,7 @@ BenchResults run_bench(const std::vector<BenchScene>& scenes, const BenchScene& 
     std::vector<Workload> first_workloads;
     for (std::size_t k = 0; k < scenes.size(); ++k)
         results.scenes.push_back(runner.run_scene(scenes[k], k == 0 ? &first_workloads : nullptr));
+    if (plan.points.inside_vertices > 0) results.inside_tests = runner.run_inside_tests();
     if (plan.watertight_rays > 0) results.accuracy = runner.run_accuracy();
     if (plan.sweep && !scenes.empty()) {
         results.sweep_scene = scenes.front().name;

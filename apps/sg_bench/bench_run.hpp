@@ -2,12 +2,14 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "bench_structure.hpp"
+#include "point_bench.hpp"
 #include "splitgrid/mesh.hpp"
 #include "workloads.hpp"
 
@@ -41,6 +43,10 @@ struct BenchPlan {
     /// --mesh-order).
     std::string mesh_order = "file";
     StructureConfigs configs;
+    PointPlan points;  ///< the point and multi-hit workloads, and the inside tests
+    /// Where --save-points writes the point sets and their scenes (point_files.hpp); empty:
+    /// nowhere.
+    std::filesystem::path save_points;
 };
 
 /// Median of `values` (the mean of the two middle ones for an even count); 0 when empty.
@@ -93,6 +99,12 @@ struct SceneResult {
     std::vector<std::string> workload_names;
     std::vector<std::size_t> workload_rays;
     std::vector<StructureResult> structures;
+    /// The point and multi-hit workloads (empty when the plan runs none), the mesh's edges
+    /// (counted where they run: occupancy needs a closed mesh) and CGAL's builds.
+    std::vector<PointWorkloadResult> point_workloads;
+    bool edges_counted = false;
+    EdgeReport edges;
+    CgalSceneResult cgal;
 };
 
 /// One structure and query variant on the watertightness workload at one sphere position.
@@ -139,6 +151,9 @@ struct ScaleResult {
 
 struct BenchResults {
     std::vector<SceneResult> scenes;
+    /// The inside tests: the tessellated cube's and the icosphere's sets, then one per closed
+    /// scene (empty with plan.points.inside_vertices 0).
+    std::vector<InsideTestResult> inside_tests;
     std::vector<AccuracyResult> accuracy;
     std::string sweep_scene;
     std::vector<SweepResult> sweep;
@@ -149,9 +164,11 @@ struct BenchResults {
 /// Reports progress: one line per step ("dragon: building kd_tree on 2 threads").
 using BenchLog = std::function<void(const std::string& line)>;
 
-/// Measures every scene (builds, memory, workloads with timing and correctness), then the
-/// accuracy workload, the sweep on `scenes.front()`, and the scale series made from
-/// `scale_model` (skipped when it has no triangles or plan.scale_sizes is empty).
+/// Measures every scene (builds, memory, workloads with timing and correctness, the point
+/// workloads with CGAL where this build has it, the inside test of a closed scene), then the
+/// inside tests of the tessellated cube and the icosphere, the accuracy workload, the sweep on
+/// `scenes.front()`, and the scale series made from `scale_model` (skipped when it has no
+/// triangles or plan.scale_sizes is empty).
 [[nodiscard]] BenchResults run_bench(const std::vector<BenchScene>& scenes,
                                      const BenchScene& scale_model, const BenchPlan& plan,
                                      const BenchLog& log);

@@ -10,6 +10,7 @@
 #include "cli_common.hpp"
 #include "splitgrid/builder.hpp"
 #include "splitgrid/error.hpp"
+#include "splitgrid/occupancy.hpp"
 #include "splitgrid/split_grid.hpp"
 #include "splitgrid/traverse.hpp"
 
@@ -32,6 +33,41 @@ void count_in_chunks(std::span<const Ray> rays, bool any_hit, const Query& query
         else query(part, std::span<Hit>(hits.data(), part.size()));
     }
 }
+
+// The point and multi-hit queries of one of our structures: the library's, on the structure
+// and the mesh its owner holds (both referred to, so a rebuild is seen).
+template <class Structure>
+class OwnPointQueries final : public PointQueries {
+public:
+    OwnPointQueries(const Structure& structure, const MeshView& mesh)
+        : structure_(structure), mesh_(mesh)
+    {
+    }
+    std::string unavailable(PointQuery) const override { return ""; }
+    bool exact_distances() const override { return true; }
+    void count_intersections(std::span<const Ray> rays,
+                             std::span<std::int32_t> counts) const override
+    {
+        if constexpr (std::is_same_v<Structure, SplitGrid>)
+            sg::count_intersections(structure_, mesh_, rays, counts);
+        else
+            structure_.count_intersections(mesh_, rays, counts);
+    }
+    void occupancy(std::span<const Vec3f> points, std::span<float> inside,
+                   TriangleTest test) const override
+    {
+        sg::compute_occupancy(structure_, mesh_, points, inside, 1, test);
+    }
+    void closest_points(std::span<const Vec3f> points,
+                        std::span<ClosestPoint> out) const override
+    {
+        sg::closest_points(structure_, mesh_, points, out);
+    }
+
+private:
+    const Structure& structure_;
+    const MeshView& mesh_;
+};
 
 class SplitGridStructure final : public BenchStructure {
 public:
@@ -75,12 +111,14 @@ public:
         });
         return true;
     }
+    const PointQueries* point_queries() const override { return &points_; }
 
 private:
     MeshView mesh_;
     BuildConfig config_;
     SplitGrid grid_;
     double build_seconds_ = 0.0;
+    OwnPointQueries<SplitGrid> points_{grid_, mesh_};
 };
 
 // The comparison structures share one adaptor: the same build/query interface shape.
@@ -119,6 +157,8 @@ public:
         return true;
     }
 
+    const PointQueries* point_queries() const override { return &points_; }
+
     /// The structure itself, for the dynamic workload's refit.
     Structure& get() noexcept { return structure_; }
 
@@ -126,6 +166,7 @@ private:
     MeshView mesh_;
     Structure structure_;
     double build_seconds_ = 0.0;
+    OwnPointQueries<Structure> points_{structure_, mesh_};
 };
 
 // Any structure, built anew on every frame (the one before released first, so that its
@@ -224,6 +265,16 @@ std::unique_ptr<FrameStructure> make_frame_structure(const std::string& name,
         if (name == "embree_refit") return embree_frames(mesh, EmbreeFrameMode::refit, threads);
     }
     return std::make_unique<RebuiltEachFrame>(name, mesh, configs, threads);
+}
+
+std::string_view point_query_name(PointQuery query) noexcept
+{
+    switch (query) {
+    case PointQuery::count: return "count";
+    case PointQuery::occupancy: return "occupancy";
+    case PointQuery::closest: return "closest";
+    }
+    return "";
 }
 
 std::string variant_name(const QueryVariant& variant)

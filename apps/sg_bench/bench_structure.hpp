@@ -6,12 +6,14 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "splitgrid/baselines/bvh.hpp"
 #include "splitgrid/baselines/kd_tree.hpp"
 #include "splitgrid/baselines/uniform_grid.hpp"
 #include "splitgrid/build_config.hpp"
+#include "splitgrid/closest_point.hpp"
 #include "splitgrid/mesh.hpp"
 #include "splitgrid/query.hpp"
 #include "splitgrid/ray.hpp"
@@ -29,6 +31,35 @@ using QueryVariant = QueryOptions;
 [[nodiscard]] std::string variant_name(const QueryVariant& variant);
 /// The four variants of our own structures, exact first.
 [[nodiscard]] std::vector<QueryVariant> all_variants();
+
+/// The queries of the point and multi-hit workloads (point_bench.hpp).
+enum class PointQuery { count, occupancy, closest };
+/// "count", "occupancy", "closest".
+[[nodiscard]] std::string_view point_query_name(PointQuery query) noexcept;
+
+/// What answers the point and multi-hit workloads: our structures, and CGAL (cgal_peer.hpp).
+/// Every query runs serially in the calling thread and is const: several threads call at once.
+class PointQueries {
+public:
+    virtual ~PointQueries() = default;
+    /// "" if `query` is answered, else why not (the results say "n/a: <why>").
+    [[nodiscard]] virtual std::string unavailable(PointQuery query) const = 0;
+    /// True for our structures, whose distances come from the computation of
+    /// closest_point_brute_force (closest_point.hpp) and so equal it bit for bit; false for a
+    /// peer, whose distances agree with it within a tolerance.
+    [[nodiscard]] virtual bool exact_distances() const = 0;
+    /// The number of triangles each ray hits (count_intersections), into `counts`.
+    virtual void count_intersections(std::span<const Ray> rays,
+                                     std::span<std::int32_t> counts) const = 0;
+    /// Inside (1) or outside (0) of each point: compute_occupancy with the triangle test
+    /// `test` (a peer runs its own test, whatever `test` says).
+    virtual void occupancy(std::span<const Vec3f> points, std::span<float> inside,
+                           TriangleTest test) const = 0;
+    /// The closest point of the mesh to each point (closest_points; a peer fills the
+    /// distance, the triangle and the point, not the barycentrics).
+    virtual void closest_points(std::span<const Vec3f> points,
+                                std::span<ClosestPoint> out) const = 0;
+};
 
 /// A built structure over one mesh (which the caller keeps alive).
 class BenchStructure {
@@ -70,6 +101,9 @@ public:
         (void)sum;
         return false;
     }
+    /// The point and multi-hit queries, or nullptr where the structure has none (Embree:
+    /// Debian's is built without the filter functions that counting hits needs).
+    [[nodiscard]] virtual const PointQueries* point_queries() const { return nullptr; }
 };
 
 /// Parameters of every structure sg-bench can build; each keeps its library defaults

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <numeric>
 #include <random>
 #include <string>
@@ -161,6 +162,18 @@ void bench(const CLI::App& app, BenchOptions& o)
         throw sg::IoError(o.out.string() + ": folder " + parent.string() + " does not exist");
     if (fs::exists(o.out) && !fs::is_directory(o.out))
         throw sg::IoError(o.out.string() + ": exists and is not a folder");
+    std::unique_ptr<sg::apps::OutputFolder> points_folder;
+    if (!plan.save_points.empty()) {
+        const fs::path& points = plan.save_points;
+        const fs::path points_parent =
+            points.has_parent_path() ? points.parent_path() : fs::path(".");
+        if (!fs::is_directory(points_parent))
+            throw sg::IoError(points.string() + ": folder " + points_parent.string() +
+                              " does not exist (--save-points)");
+        if (fs::exists(points) && !fs::is_directory(points))
+            throw sg::IoError(points.string() + ": exists and is not a folder (--save-points)");
+        points_folder = std::make_unique<sg::apps::OutputFolder>(points);
+    }
     sg::apps::OutputFolder folder(o.out);
     const fs::path json = o.out / "results.json";
     const fs::path csv = o.out / "results.csv";
@@ -217,6 +230,7 @@ void bench(const CLI::App& app, BenchOptions& o)
     sg::write_text_file(*json_output, document.dump(2) + "\n");
     sg::write_text_file(*csv_output, sg::bench::results_csv(results, plan));
     folder.keep();
+    if (points_folder) points_folder->keep();
     if (!scenes.empty()) std::cout << sg::bench::results_table(results, plan);
     std::cout << sg::bench::dynamic_table(dynamic_results) << std::flush;
 

@@ -5,6 +5,7 @@
 // No timing is asserted: speed lives in the benchmark's own output.
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdlib>
 #include <filesystem>
@@ -14,8 +15,11 @@
 #include <vector>
 
 #include "app_test_support.hpp"
+#include "support/crossings_oracle.hpp"
 #include "support/leaf_triangles.hpp"
+#include "splitgrid/closed_shapes.hpp"
 #include "splitgrid/formats/mesh_import.hpp"
+#include "splitgrid/formats/point_file.hpp"
 #include "splitgrid/formats/sg_file.hpp"
 #include "splitgrid/query.hpp"
 
@@ -382,6 +386,256 @@ TEST(SgBench, DynamicRunRebuildsOrRefitsEveryStructureOnEveryFrame)
 #endif
 }
 
+// The point workload of `scene` named by query and points, and its method `name` (nullptr
+// where absent).
+const json* point_workload(const json& scene, const std::string& query, const std::string& points)
+{
+    for (const json& w : scene.at("point_workloads"))
+        if (w.at("query") == query && w.at("points") == points) return &w;
+    return nullptr;
+}
+const json* point_method(const json& workload, const std::string& name)
+{
+    for (const json& m : workload.at("methods"))
+        if (m.at("method") == name) return &m;
+    return nullptr;
+}
+
+// Inside (1) or outside (0) of the convex closed mesh `mesh`; -1 within 1e-6 of a face's
+// plane (too close to call here).
+int convex_side_of(const Mesh& mesh, Vec3f p)
+{
+    const ConvexSide side = convex_side(mesh.view(), p);
+    return side.nearest_plane < 1e-6 ? -1 : (side.inside ? 1 : 0);
+}
+
+TEST(SgBench, PointWorkloadsCheckEveryMethodAndSaveTheirPoints)
+{
+    // A closed convex mesh (an icosphere, written as OBJ): every structure of ours and CGAL
+    // answer every point workload, checked against brute force before they are timed; the
+    // points saved with --save-points are those measured, and the inside tests' answers in
+    // their files are what an independent test here gives.
+    ScratchDir scratch;
+    const Mesh ball = icosphere(3, 1.0f);
+    write_text(scratch / "ball.obj", obj_of(ball));
+    const fs::path out = scratch / "bench";
+    const fs::path points = scratch / "points";
+    const ToolRun run = run_tool(
+        SG_BENCH_EXE,
+        {"--quick", "--width", "32", "--height", "24", "--incoherent-rays", "3000",
+         "--count-rays", "2500", "--occupancy-points", "3000", "--closest-points", "600",
+         "--inside-vertices", "20", "--threads", "1,2", "--no-sweep", "--watertight-rays", "0",
+         "--save-points", points.string(), "-o", out.string(), (scratch / "ball.obj").string()},
+        scratch);
+    ASSERT_EQ(run.exit_code, 0) << describe(run);
+    const json j = json::parse(read_text(out / "results.json"));
+    EXPECT_EQ(j.at("plan").at("count_rays"), 2500);
+    EXPECT_EQ(j.at("plan").at("occupancy_points"), 3000);
+    EXPECT_EQ(j.at("plan").at("closest_points"), 600);
+    EXPECT_EQ(j.at("plan").at("inside_vertices"), 20);
+    const json& scene = j.at("scenes").at(0);
+    EXPECT_EQ(scene.at("edges").at("open_edges"), 0);
+    EXPECT_EQ(scene.at("edges").at("edges"), ball.vertices.size() + ball.triangles.size() - 2);
+    EXPECT_TRUE(scene.at("edges").at("closed").get<bool>());
+
+    const std::vector<std::pair<std::string, std::string>> workloads{
+        {"count", "incoherent"}, {"occupancy", "random"}, {"occupancy", "near"},
+        {"closest", "random"}, {"closest", "near"}};
+    ASSERT_EQ(scene.at("point_workloads").size(), workloads.size());
+    for (const auto& [query, set] : workloads) {
+        const json* w = point_workload(scene, query, set);
+        ASSERT_NE(w, nullptr) << query << " " << set;
+        EXPECT_EQ(w->at("queries"), query == "count" ? 2500 : query == "occupancy" ? 3000 : 600);
+        EXPECT_GT(w->at("oracle_queries").get<std::size_t>(), 10u) << query << " " << set;
+        for (const char* name :
+             {"splitgrid", "splitgrid_poster", "uniform_grid", "kd_tree", "bvh"}) {
+            const json* m = point_method(*w, name);
+            ASSERT_NE(m, nullptr) << name;
+            EXPECT_EQ(m->at("status"), "ok") << name << " " << query << " " << set;
+            EXPECT_EQ(m->at("oracle_disagreements"), 0) << name << " " << query << " " << set;
+            EXPECT_EQ(m->at("reference_disagreements"), 0) << name << " " << query << " " << set;
+            EXPECT_GT(m->at("queries_per_s").at("1").get<double>(), 0.0);
+            EXPECT_GT(m->at("queries_per_s").at("2").get<double>(), 0.0);
+        }
+        const json* embree = point_method(*w, "embree");
+#ifdef SG_BENCH_HAS_EMBREE
+        ASSERT_NE(embree, nullptr);
+        EXPECT_EQ(embree->at("status").get<std::string>().rfind("n/a: ", 0), 0u);
+        EXPECT_TRUE(embree->at("queries_per_s").empty());
+#else
+        EXPECT_EQ(embree, nullptr);
+#endif
+        const json* cgal = point_method(*w, "cgal");
+#ifdef SG_BENCH_HAS_CGAL
+        ASSERT_NE(cgal, nullptr);
+        if (query == "count") {
+            EXPECT_EQ(cgal->at("status").get<std::string>().rfind("n/a: ", 0), 0u);
+        } else {
+            EXPECT_EQ(cgal->at("status"), "ok") << query << " " << set;
+            EXPECT_EQ(cgal->at("oracle_disagreements"), 0) << query << " " << set;
+            EXPECT_GT(cgal->at("queries_per_s").at("2").get<double>(), 0.0);
+        }
+#else
+        EXPECT_EQ(cgal, nullptr);
+#endif
+    }
+#ifdef SG_BENCH_HAS_CGAL
+    EXPECT_TRUE(scene.at("cgal").at("built").get<bool>());
+    EXPECT_EQ(scene.at("cgal").at("refused_faces"), 0);
+    EXPECT_TRUE(scene.at("cgal").at("closed").get<bool>());
+    EXPECT_FALSE(j.at("cgal_version").get<std::string>().empty());
+#endif
+
+    // The saved scene is the mesh measured; the saved points are the workloads'.
+    const SgContents saved = read_sg_file(points / "ball.sg");
+    EXPECT_EQ(saved.mesh.triangles.size(), ball.triangles.size());
+    const std::vector<Vec3f> random = read_point_file(points / "ball.random.points");
+    const std::vector<Vec3f> near = read_point_file(points / "ball.near.points");
+    ASSERT_EQ(random.size(), 3000u);
+    ASSERT_EQ(near.size(), 3000u);
+    // The fraction of random points inside is the one the planes of the faces give.
+    std::size_t inside = 0, decided = 0;
+    for (const Vec3f p : random) {
+        const int side = convex_side_of(ball, p);
+        inside += side == 1 ? 1 : 0;
+        decided += side >= 0 ? 1 : 0;
+    }
+    EXPECT_NEAR(point_workload(scene, "occupancy", "random")->at("mean_answer").get<double>(),
+                double(inside) / 3000.0, double(3000 - decided + 1) / 3000.0);
+    // Near points lie within 1e-3 of the diagonal of the surface, on either side.
+    const Aabb box = bounds(ball.view());
+    const double diagonal = std::sqrt(3.0) * box.extent(0);
+    const double mean_distance = point_workload(scene, "closest", "near")->at("mean_answer");
+    EXPECT_GT(mean_distance, 0.0);
+    EXPECT_LT(mean_distance, 1e-3 * diagonal);
+    std::size_t near_inside = 0;
+    for (const Vec3f p : near) near_inside += convex_side_of(ball, p) == 1 ? 1 : 0;
+    EXPECT_GT(near_inside, 1000u);
+    EXPECT_LT(near_inside, 2000u);
+
+    // The inside tests: their files hold what the oracle says, which the test recomputes for
+    // the cube (inside iff strictly within [0, 8]^3) and the icosphere (the faces' planes).
+    std::vector<std::string> sets;
+    for (const json& t : j.at("inside_tests")) {
+        const std::string name = t.at("set");
+        sets.push_back(name);
+        const std::vector<Vec3f> p = read_point_file(points / (name + ".points"));
+        const std::vector<float> expected = read_occupancy_file(points / (name + ".expected"));
+        ASSERT_EQ(p.size(), t.at("points").get<std::size_t>()) << name;
+        ASSERT_EQ(expected.size(), p.size()) << name;
+        EXPECT_EQ(std::count(expected.begin(), expected.end(), 1.0f), t.at("inside").get<long>())
+            << name;
+        EXPECT_EQ(std::count_if(expected.begin(), expected.end(),
+                                [](float e) { return std::isnan(e); }),
+                  t.at("undecided").get<long>())
+            << name;
+        const std::string shape = t.at("scene");
+        const Mesh cube = tessellated_cube(8);
+        for (std::size_t k = 0; k < p.size(); ++k) {
+            if (std::isnan(expected[k])) continue;
+            int truth = -1;
+            if (shape == "tessellated_cube") {
+                const auto in = [](float c) { return c > 0.0f && c < 8.0f; };
+                truth = in(p[k].x) && in(p[k].y) && in(p[k].z) ? 1 : 0;
+            } else {
+                truth = convex_side_of(shape == "icosphere" ? icosphere(2, 1.0f) : ball, p[k]);
+            }
+            if (truth >= 0) {
+                EXPECT_EQ(expected[k], float(truth)) << name << " point " << k;
+            }
+        }
+        EXPECT_TRUE(fs::exists(points / (shape + ".sg"))) << shape;
+        // Split Grid's exact parity is right everywhere; the rule without the tie-break
+        // counts a ray through an edge or a vertex once per triangle there, so on the points
+        // whose rays are aimed at the cube's edges and vertices it is wrong.
+        for (const json& m : t.at("methods")) {
+            if (m.at("method") == "splitgrid" || m.at("method") == "cgal") {
+                EXPECT_EQ(m.at("status"), "ok") << name << " " << m;
+                EXPECT_EQ(m.at("wrong"), 0) << name << " " << m;
+            }
+            if (m.at("method") == "splitgrid_no_tie_break" && name == "cube_aimed") {
+                EXPECT_GT(m.at("wrong").get<std::size_t>(), t.at("points").get<std::size_t>() / 2);
+            }
+            EXPECT_GT(m.at("points_per_s").get<double>(), 0.0) << name << " " << m;
+        }
+    }
+    EXPECT_EQ(sets, (std::vector<std::string>{"cube_grid", "cube_aimed", "icosphere_grid",
+                                              "icosphere_aimed", "ball_near_vertices"}));
+    for (const char* chart : {"point_workloads.png", "inside_tests.png"})
+        EXPECT_TRUE(fs::exists(out / chart)) << chart << "\n" << run.err;
+    EXPECT_NE(run.out.find("ball: point and multi-hit workloads (closed mesh"), std::string::npos)
+        << run.out;
+    EXPECT_NE(run.out.find("\ninside tests: "), std::string::npos) << run.out;
+}
+
+TEST(SgBench, CgalAnswersWhatItCanAndSaysWhyNot)
+{
+#ifndef SG_BENCH_HAS_CGAL
+    GTEST_SKIP() << "this sg-bench has no CGAL (SG_WITH_CGAL off)";
+#else
+    // An open box (a tessellated cube without its top): no occupancy for anyone, closest
+    // points for all. Two tetrahedra that share an edge: closed (every edge in an even number
+    // of triangles), so our parity answers, but the shared edge is non-manifold and
+    // Surface_mesh refuses the faces that would make it so: CGAL answers nothing there, and
+    // says why.
+    ScratchDir scratch;
+    Mesh box = tessellated_cube(2);
+    std::erase_if(box.triangles, [&](const Triangle& t) {
+        return box.vertices[t.v[0]].y == 2.0f && box.vertices[t.v[1]].y == 2.0f &&
+               box.vertices[t.v[2]].y == 2.0f;
+    });
+    ASSERT_EQ(box.triangles.size(), 40u);
+    write_text(scratch / "box.obj", obj_of(box));
+    Mesh pair;
+    pair.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, -1}, {1, -1, 0}};
+    // Outward-wound tetrahedra (0,1,2,3) and (0,1,5,4), both on the edge 0-1.
+    pair.triangles = {Triangle{{0, 2, 1}}, Triangle{{0, 1, 3}}, Triangle{{1, 2, 3}},
+                      Triangle{{0, 3, 2}}, Triangle{{0, 1, 4}}, Triangle{{1, 5, 4}},
+                      Triangle{{0, 4, 5}}, Triangle{{0, 5, 1}}};
+    write_text(scratch / "pair.obj", obj_of(pair));
+    const fs::path out = scratch / "bench";
+    const ToolRun run = run_tool(
+        SG_BENCH_EXE,
+        {"--quick", "--width", "16", "--height", "12", "--incoherent-rays", "500", "--threads",
+         "1", "--structures", "splitgrid", "--no-sweep", "--watertight-rays", "0",
+         "--inside-vertices", "0", "--occupancy-points", "500", "--closest-points", "200", "-o",
+         out.string(), (scratch / "box.obj").string(), (scratch / "pair.obj").string()},
+        scratch);
+    ASSERT_EQ(run.exit_code, 0) << describe(run);
+    const json j = json::parse(read_text(out / "results.json"));
+    EXPECT_TRUE(j.at("inside_tests").empty());
+    const json& open = j.at("scenes").at(0);
+    EXPECT_EQ(open.at("edges").at("open_edges"), 8);  // the rim: 4 edges of length 1 a side
+    EXPECT_EQ(open.at("cgal").at("refused_faces"), 0);
+    EXPECT_FALSE(open.at("cgal").at("closed").get<bool>());
+    for (const char* set : {"random", "near"}) {
+        for (const char* name : {"splitgrid", "cgal"}) {
+            const json* occupancy = point_method(*point_workload(open, "occupancy", set), name);
+            ASSERT_NE(occupancy, nullptr);
+            const std::string status = occupancy->at("status");
+            EXPECT_EQ(status.rfind("n/a: mesh not closed", 0), 0u) << status;
+            const json* closest = point_method(*point_workload(open, "closest", set), name);
+            EXPECT_EQ(closest->at("status"), "ok") << *closest;
+            EXPECT_EQ(closest->at("oracle_disagreements"), 0) << *closest;
+        }
+    }
+    const json& tetrahedra = j.at("scenes").at(1);
+    EXPECT_TRUE(tetrahedra.at("edges").at("closed").get<bool>());
+    EXPECT_EQ(tetrahedra.at("edges").at("nonmanifold_edges"), 1);
+    EXPECT_GT(tetrahedra.at("cgal").at("refused_faces").get<std::size_t>(), 0u);
+    for (const char* query : {"occupancy", "closest"}) {
+        const json* w = point_workload(tetrahedra, query, "random");
+        EXPECT_EQ(point_method(*w, "splitgrid")->at("status"), "ok") << *w;
+        EXPECT_EQ(point_method(*w, "splitgrid")->at("oracle_disagreements"), 0) << *w;
+        const std::string cgal = point_method(*w, "cgal")->at("status");
+        EXPECT_NE(cgal.find("faces refused by Surface_mesh (non-manifold"), std::string::npos)
+            << cgal;
+    }
+    EXPECT_GT(point_workload(tetrahedra, "occupancy", "random")->at("mean_answer").get<double>(),
+              0.0);
+#endif
+}
+
 TEST(SgBench, BadFlagsAreUsageErrorsAndLeaveNothing)
 {
     ScratchDir scratch;
@@ -400,6 +654,8 @@ TEST(SgBench, BadFlagsAreUsageErrorsAndLeaveNothing)
         {"--dynamic-frames", "0", "--dynamic-deform", model.string(), "-o", out.string()},
         {"--dynamic-structures", "bvh,bvh", "--dynamic-deform", model.string(), "-o",
          out.string()},
+        {"--occupancy-points", "-5", model.string(), "-o", out.string()},
+        {"--inside-vertices", "many", model.string(), "-o", out.string()},
     };
     for (const auto& args : cases) {
         const ToolRun run = run_tool(SG_BENCH_EXE, args, scratch);
@@ -425,6 +681,9 @@ TEST(SgBench, BadInputIsExitTwoAndLeavesNothing)
         {{(scratch / "garbage.obj").string(), "-o", out.string()}, (scratch / "garbage.obj").string()},
         {{assimp_model("PLY/Wuson.ply").string(), "-o", missing_parent.string()},
          missing_parent.string()},
+        {{assimp_model("PLY/Wuson.ply").string(), "-o", out.string(), "--save-points",
+          missing_parent.string()},
+         missing_parent.string()},
     };
     for (const Case& c : cases) {
         const ToolRun run = run_tool(SG_BENCH_EXE, c.args, scratch);
@@ -445,7 +704,9 @@ TEST(SgBench, HelpExplainsWorkloadsOutputsAndExitCodes)
                              "--arena-sizes", "primary", "path", "incoherent", "shadow",
                              "results.json", "results.csv", "--leaf-size", "Exit codes:",
                              "--dynamic-rigid", "--dynamic-deform", "--dynamic-rays",
-                             "dynamic.png"})
+                             "dynamic.png", "--count-rays", "--occupancy-points",
+                             "--closest-points", "--inside-vertices", "--save-points",
+                             "point_workloads.png", "inside_tests.png", "CGAL"})
         EXPECT_NE(run.out.find(text), std::string::npos) << text << " missing";
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "splitgrid/baselines/bvh.hpp"
+#include "splitgrid/brute_force.hpp"
 #include "splitgrid/formats/mesh_import.hpp"
 #include "splitgrid/mesh_edges.hpp"
 #include "splitgrid/occupancy.hpp"
@@ -54,7 +55,7 @@ TEST_P(RealClosedMesh, PointsNearVerticesAlongAxesAndDiagonalsAreDecidedExactly)
     std::vector<float> expected;
     std::size_t inside = 0;
     for (const Vec3f p : points) {
-        const double w = test::winding_number(mesh.view(), {p.x, p.y, p.z});
+        const double w = winding_number(mesh.view(), Vec3d(p));
         ASSERT_LT(std::min(std::abs(w), std::abs(w - 1.0)), 1e-6) << "winding number " << w;
         expected.push_back(w > 0.5 ? 1.0f : 0.0f);
         inside += w > 0.5 ? 1 : 0;

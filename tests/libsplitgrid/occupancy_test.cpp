@@ -8,15 +8,18 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "splitgrid/baselines/bvh.hpp"
 #include "splitgrid/baselines/kd_tree.hpp"
 #include "splitgrid/baselines/uniform_grid.hpp"
+#include "splitgrid/brute_force.hpp"
 #include "splitgrid/closed_shapes.hpp"
 #include "splitgrid/error.hpp"
 #include "splitgrid/mesh_edges.hpp"
 #include "splitgrid/occupancy.hpp"
+#include "support/crossings_oracle.hpp"
 #include "support/oracle.hpp"
 #include "support/random_scene.hpp"
 
@@ -96,22 +99,9 @@ TEST(Occupancy, AGridAroundAnIcosphereIsDecidedExactly)
     }
     std::vector<float> inside;
     for (const Vec3f p : points) {
-        bool in = true;
-        double nearest = 1e9;
-        for (std::uint32_t t = 0; t < sphere.triangles.size(); ++t) {
-            const Vec3f a = sphere.view().vertex(t, 0), b = sphere.view().vertex(t, 1),
-                        c = sphere.view().vertex(t, 2);
-            const double ux = double(b.x) - a.x, uy = double(b.y) - a.y, uz = double(b.z) - a.z;
-            const double vx = double(c.x) - a.x, vy = double(c.y) - a.y, vz = double(c.z) - a.z;
-            const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-            const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
-            const double side = (nx * (double(p.x) - a.x) + ny * (double(p.y) - a.y) +
-                                 nz * (double(p.z) - a.z)) / len;
-            in = in && side < 0.0;
-            nearest = std::min(nearest, std::abs(side));
-        }
-        ASSERT_GT(nearest, 1e-5) << "a test point lies too close to a face's plane";
-        inside.push_back(in ? 1.0f : 0.0f);
+        const ConvexSide side = convex_side(sphere.view(), p);
+        ASSERT_GT(side.nearest_plane, 1e-5) << "a test point lies too close to a face's plane";
+        inside.push_back(side.inside ? 1.0f : 0.0f);
     }
     expect_occupancy(sphere, points, inside, "icosphere");
     expect_occupancy(sphere, points, inside, "icosphere", 5);
@@ -131,6 +121,39 @@ TEST(Occupancy, RefusesAnEvenNumberOfSamplesAndGivesNanForAnInvalidPoint)
     EXPECT_TRUE(std::isnan(out[1]));
     EXPECT_TRUE(std::isnan(out[2]));
     EXPECT_EQ(out[3], 0.0f);
+}
+
+TEST(BruteForceOracles, WindingNumberAndHitCountKnowTheCubesInside)
+{
+    // The references sg-bench checks inside tests with: the winding number is 1 inside the
+    // outward-wound cube, 0 outside and -1 inside the same cube wound inward; a ray from a
+    // point inside crosses the surface once, from a point outside twice or never, also
+    // through the tessellation's vertices and edges (every point here has integer or
+    // half-integer coordinates, and the rays run along the axes).
+    constexpr float n = 4.0f;
+    const Mesh cube = tessellated_cube(4);
+    Mesh inward = cube;
+    for (Triangle& t : inward.triangles) std::swap(t.v[1], t.v[2]);
+    const std::vector<float> coords{-1.0f, 0.5f, 1.0f, 2.0f, 2.5f, 3.5f, 5.0f};
+    for (const float x : coords)
+        for (const float y : coords)
+            for (const float z : coords) {
+                const auto in = [](float c) { return c > 0.0f && c < n; };
+                const bool inside = in(x) && in(y) && in(z);
+                const Vec3f p{x, y, z};
+                EXPECT_NEAR(winding_number(cube.view(), sg::Vec3d(p)), inside ? 1.0 : 0.0, 1e-9)
+                    << x << " " << y << " " << z;
+                EXPECT_NEAR(winding_number(inward.view(), sg::Vec3d(p)), inside ? -1.0 : 0.0, 1e-9);
+                for (int axis = 0; axis < 3; ++axis) {
+                    Ray ray{p, {}};
+                    ray.direction[axis] = 1.0f;
+                    const std::int32_t count = count_intersections_brute_force(cube.view(), ray);
+                    const bool crosses =
+                        in(p[(axis + 1) % 3]) && in(p[(axis + 2) % 3]) && p[axis] < n;
+                    const std::int32_t expected = inside ? 1 : (crosses ? 2 : 0);
+                    EXPECT_EQ(count, expected) << x << " " << y << " " << z << " axis " << axis;
+                }
+            }
 }
 
 TEST(EdgeReport, CountsTheEdgesOfClosedOpenAndNonManifoldMeshes)

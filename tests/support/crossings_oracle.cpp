@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include "splitgrid/ray_triangle.hpp"
 
@@ -17,7 +16,6 @@ Vec3d cross(Vec3d a, Vec3d b)
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 Vec3d to_double(Vec3f v) { return {v.x, v.y, v.z}; }
-double norm(Vec3d a) { return std::sqrt(dot(a, a)); }
 
 }  // namespace
 
@@ -50,19 +48,19 @@ Vec3d moved_origin(const Ray& ray, double e)
     return o;
 }
 
-double winding_number(const MeshView& mesh, Vec3d point)
+ConvexSide convex_side(const MeshView& mesh, Vec3f point)
 {
-    double sum = 0.0;
+    ConvexSide side{true, std::numeric_limits<double>::infinity()};
+    const Vec3d p = to_double(point);
     for (std::uint32_t tri = 0; tri < mesh.triangle_count(); ++tri) {
-        const Vec3d a = sub(to_double(mesh.vertex(tri, 0)), point);
-        const Vec3d b = sub(to_double(mesh.vertex(tri, 1)), point);
-        const Vec3d c = sub(to_double(mesh.vertex(tri, 2)), point);
-        const double la = norm(a), lb = norm(b), lc = norm(c);
-        const double numerator = dot(a, cross(b, c));
-        const double denominator = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
-        sum += 2.0 * std::atan2(numerator, denominator);
+        const Vec3d a = to_double(mesh.vertex(tri, 0));
+        const Vec3d n = cross(sub(to_double(mesh.vertex(tri, 1)), a),
+                              sub(to_double(mesh.vertex(tri, 2)), a));
+        const double distance = dot(n, sub(p, a)) / std::sqrt(dot(n, n));
+        side.inside = side.inside && distance < 0.0;
+        side.nearest_plane = std::min(side.nearest_plane, std::abs(distance));
     }
-    return sum / (4.0 * std::numbers::pi);
+    return side;
 }
 
 std::vector<Hit> all_hits_brute_force(const MeshView& mesh, const Ray& ray)

@@ -26,11 +26,15 @@ using Vec3d = std::array<double, 3>;
 /// ray through an edge or vertex (docs/SPLIT_GRID.md, "Exact edge functions").
 [[nodiscard]] Vec3d moved_origin(const Ray& ray, double e);
 
-/// The generalized winding number of `point` with respect to the triangles of `mesh` (the sum
-/// of their signed solid angles over 4 pi, Van Oosterom and Strackee's formula, in double):
-/// 1 inside a closed, outward-wound mesh, 0 outside, to within rounding for points not too
-/// close to the surface.
-[[nodiscard]] double winding_number(const MeshView& mesh, Vec3d point);
+/// The side of a convex, closed, outward-wound mesh a point is on, by the planes of its faces in
+/// double: inside when below every face's plane. `nearest_plane` is the smallest distance from
+/// the point to a face's plane (not to the face), for tests that keep their points clear of
+/// the planes, where the double computation could be wrong.
+struct ConvexSide {
+    bool inside = false;
+    double nearest_plane = 0.0;
+};
+[[nodiscard]] ConvexSide convex_side(const MeshView& mesh, Vec3f point);
 
 /// Every hit of `ray` by intersect_triangle over all triangles in id order, sorted by
 /// (t, triangle): the reference of list_intersections (each triangle is tested once).
