@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "app_test_support.hpp"
+#include "splitgrid/brute_force.hpp"
 #include "splitgrid/closed_shapes.hpp"
 #include "support/crossings_oracle.hpp"
 #include "support/distance_oracle.hpp"
@@ -88,7 +89,7 @@ inline constexpr double tie_tolerance = 1e-9;
 inline PointOracle point_oracle(const MeshView& mesh, Vec3f p)
 {
     const DistanceOracle d = distance_oracle(mesh, p, tie_tolerance);
-    return {d.distance, d.nearest, winding_number(mesh, {p.x, p.y, p.z}) > 0.5};
+    return {d.distance, d.nearest, sg::winding_number(mesh, sg::Vec3d(p)) > 0.5};
 }
 
 /// How far a float distance may lie from the oracle's double one: the library's search is
