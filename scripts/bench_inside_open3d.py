@@ -119,7 +119,8 @@ def table(tests, entries, open3d_version):
         size = f"{entry['points']:,} ({entry['decided']:,})"
         for m in test["methods"]:
             if m["status"] != "ok":
-                rows.append(f"| {test['set']} | {label(m['method'])} | {size} | {m['status']} | - |")
+                rows.append(f"| {test['set']} | {label(m['method'])} | {size} | "
+                            f"{m['status']} | - |")
                 continue
             rows.append(f"| {test['set']} | {label(m['method'])} | {size} | {m['wrong']:,} | "
                         f"{m['points_per_s'] / 1e3:,.0f} k/s |")

@@ -487,8 +487,9 @@ def points_report(results, threads):
                 o3d = e.get("open3d_distance", {}).get(t, NAN)
                 cgal = bench(e, "cgal", "closest", t)
                 cpp = bench(e, "splitgrid", "closest", t)
-                distance_rows.append([r["scene"], e["points"], t, k(py), k(o3d), ratio_text(py, o3d),
-                                      k(cpp), k(cgal), ratio_text(py, cgal), ratio_text(cpp, cgal)])
+                distance_rows.append([r["scene"], e["points"], t, k(py), k(o3d),
+                                      ratio_text(py, o3d), k(cpp), k(cgal),
+                                      ratio_text(py, cgal), ratio_text(cpp, cgal)])
                 pyo = e.get("python_occupancy", {}).get(t, NAN)
                 cppo = bench(e, "splitgrid", "occupancy", t)
                 cgalo = bench(e, "cgal", "occupancy", t)
@@ -503,20 +504,22 @@ def points_report(results, threads):
                                   ("occupancy: C++ / CGAL", cppo, cgalo)):
                     if a == a and b == b and a and b:
                         ratios.setdefault((key, e["points"], t), {})[r["scene"]] = a / b
-    checks = [[r["scene"], e["points"], f"{e['python_distance_wrong']} / {e['open3d_distance_wrong']}"
-               f" of {e['oracle_points']}", f"{e['python_occupancy_wrong']} / "
-               f"{e['open3d_occupancy_wrong']} of {e['occupancy_oracle_decided']}"]
+    checks = [[r["scene"], e["points"],
+               f"{e['python_distance_wrong']} / {e['open3d_distance_wrong']} of "
+               f"{e['oracle_points']}",
+               f"{e['python_occupancy_wrong']} / {e['open3d_occupancy_wrong']} of "
+               f"{e['occupancy_oracle_decided']}"]
               for r in results for e in r["sets"]]
     summary = [[key, points, t, f"{statistics.median(v.values()):.2f}x",
                 f"{min(v.values()):.2f}-{max(v.values()):.2f}", str(len(v))]
                for (key, points, t), v in sorted(ratios.items())]
     return "\n\n".join([
-        markdown(["scene", "points", "threads", "Python compute_distance", "Open3D compute_distance",
-                  "Python / Open3D", "C++ closest_points", "CGAL AABB tree", "Python / CGAL",
-                  "C++ / CGAL"], distance_rows),
-        markdown(["scene", "points", "threads", "Python compute_occupancy", "C++ compute_occupancy",
-                  "CGAL Side_of_triangle_mesh", "Python / CGAL", "C++ / CGAL",
-                  "Open3D compute_occupancy"], occupancy_rows),
+        markdown(["scene", "points", "threads", "Python compute_distance",
+                  "Open3D compute_distance", "Python / Open3D", "C++ closest_points",
+                  "CGAL AABB tree", "Python / CGAL", "C++ / CGAL"], distance_rows),
+        markdown(["scene", "points", "threads", "Python compute_occupancy",
+                  "C++ compute_occupancy", "CGAL Side_of_triangle_mesh", "Python / CGAL",
+                  "C++ / CGAL", "Open3D compute_occupancy"], occupancy_rows),
         markdown(["scene", "points", "wrong distances: Python / Open3D (oracle sample)",
                   "wrong sides: Python / Open3D (decided sample)"], checks),
         markdown(["ratio", "points", "threads", "median over scenes", "range", "scenes"],
