@@ -28,6 +28,10 @@ fi
 if [[ ! -x "${root_dir}/build/apps/sg-bench" ]]; then
     bash "${root_dir}/scripts/setup.sh"
 fi
+# CGAL (GPL, optional: SG_WITH_CGAL) is the reference of the point workloads: make sure this
+# tree's sg-bench has it, whatever the tree was configured with before.
+cmake -S "${root_dir}" -B "${root_dir}/build" -DSG_WITH_CGAL=ON > /dev/null
+cmake --build "${root_dir}/build" --target sg-bench
 
 scenes=(
     scanned/stanford_dragon_vrip.ply
@@ -62,9 +66,21 @@ paths=()
 for s in "${scenes[@]}"; do paths+=("${meshes}/${s}"); done
 if [[ "${quick}" != true ]]; then paths+=("${cad_model}"); fi
 
-# The sweep runs on the first scene; the scale series and the arenas use the dragon.
-"${root_dir}/build/apps/sg-bench" -o "${out}" \
+# The sweep runs on the first scene; the scale series and the arenas use the dragon. The point
+# sets go to points/ for Open3D's inside tests below.
+mkdir -p "${out}"
+"${root_dir}/build/apps/sg-bench" -o "${out}" --save-points "${out}/points" \
     --scale-model "${meshes}/scanned/stanford_dragon_vrip.ply" "${args[@]}" "$@" "${paths[@]}"
+
+# Open3D (python3-open3d) on the inside tests' points: its wrong answers, into
+# inside_open3d.json, inside_open3d.md and inside_tests.png.
+if PYTHONPATH="${root_dir}/build/python" /usr/bin/python3 -c "import open3d, splitgrid" \
+    2>/dev/null; then
+    /usr/bin/python3 "${root_dir}/scripts/bench_inside_open3d.py" "${out}/results.json" \
+        "${out}/points" > "${out}/inside_open3d.md"
+else
+    echo "bench.sh: no python3-open3d or splitgrid package: Open3D's inside tests left out" >&2
+fi
 
 # The dynamic workload, a run of its own: copies of the Stanford bunny (at least 1M triangles)
 # moving rigidly, and the dragon deforming.
@@ -86,7 +102,8 @@ if [[ "${quick}" == true ]]; then
     echo "bench.sh: report in ${out}/RESULTS.md"
 else
     cp "${out}/dynamic/dynamic.png" "${out}/dynamic.png" 2>/dev/null || true
-    for chart in figure3 speed_vs_accuracy sweep_build_vs_trace memory_scaling dynamic; do
+    for chart in figure3 speed_vs_accuracy sweep_build_vs_trace memory_scaling dynamic \
+        point_workloads inside_tests; do
         if [[ -f "${out}/${chart}.png" ]]; then
             cp "${out}/${chart}.png" "${root_dir}/docs/images/bench_${chart}.png"
         fi

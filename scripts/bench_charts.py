@@ -253,11 +253,13 @@ def point_workloads(results, out_dir):
             key = (w["query"], w["points"])
             if key not in panels:
                 panels.append(key)
+    # Only the methods timed somewhere (not Embree, which answers none of these queries).
     methods = list(dict.fromkeys(m["method"] for s in scenes for w in s["point_workloads"]
-                                 for m in w["methods"]))
+                                 for m in w["methods"] if m["queries_per_s"]))
     fig, axes = plt.subplots(len(panels), 1, figsize=(max(7, 1.2 * len(scenes) + 3),
                                                       2.6 * len(panels) + 1), squeeze=False)
     width = 0.8 / max(1, len(methods))
+    handles = {}
     for ax, (query, points) in zip(axes[:, 0], panels):
         for k, name in enumerate(methods):
             xs, ys = [], []
@@ -270,7 +272,8 @@ def point_workloads(results, out_dir):
                         if m["method"] == name and rate:
                             xs.append(i + (k - (len(methods) - 1) / 2) * width)
                             ys.append(rate)
-            ax.bar(xs, ys, width=width, color=colour(name), label=label(name))
+            if xs:
+                handles.setdefault(name, ax.bar(xs, ys, width=width, color=colour(name)))
         unit = "rays" if query == "count" else "points"
         ax.set_title("%s, %s %s (%s/s, %s thread%s; missing bar: not answered or wrong)"
                      % (query, points, unit, unit, threads, "" if threads == "1" else "s"),
@@ -281,7 +284,9 @@ def point_workloads(results, out_dir):
         ax.set_xticklabels([])
     axes[-1, 0].set_xticklabels(["%s\n%s tris" % (s["scene"], human(s["triangles"]))
                                  for s in scenes], rotation=45, ha="right", fontsize=8)
-    axes[0, 0].legend(ncol=min(len(methods), 3), fontsize=8, loc="upper left")
+    fig.legend([handles[m] for m in methods if m in handles],
+               [label(m) for m in methods if m in handles], ncol=min(len(methods), 6),
+               fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 0.965))
     fig.suptitle("Point and multi-hit workloads: every method checked against brute force first")
     path = os.path.join(out_dir, "point_workloads.png")
     save(fig, path)

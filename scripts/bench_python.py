@@ -300,6 +300,232 @@ def measure_scene(args, scene_path, folder, splitgrid, open3d):
     return result
 
 
+# ----- Point queries (--points): compute_distance and compute_occupancy against Open3D and,
+# through sg-bench on the very same points, the C++ Split Grid and CGAL.
+
+# The closed scans of ../shared/meshes (every edge in an even number of triangles).
+POINT_SCENES = ["scanned/bunny_npm.obj", "scanned/nefertiti.obj",
+                "scanned/stanford_dragon_vrip_res2.ply", "scanned/igea_triangles.ply",
+                "scanned/stanford_dragon_vrip.ply"]
+POINT_ORACLE_PAIRS = 5e7  # point-triangle pairs of the oracle sample per point set
+
+
+def read_point_file(path):
+    """(n, 3) float32 points of a point file (docs/FORMAT.md 6.1)."""
+    data = pathlib.Path(path).read_bytes()
+    assert data[:8] == b"SGPTS001"
+    (count,) = struct.unpack("<Q", data[8:16])
+    return np.frombuffer(data[16:], dtype="<f4").reshape(count, 3)
+
+
+def wrong_distances(distances, expected, magnitude):
+    """Distances that differ from the oracle's (float64) by more than 1e-5 relative plus 4
+    float ulps of the scene's largest coordinate `magnitude`: what a computation in float
+    (Open3D's, through Embree's point query) can reach near the surface, where the distance
+    is small against the coordinates (Open3D's errors there stay below one such ulp)."""
+    tolerance = 1e-5 * expected + 4 * 2.0 ** -23 * magnitude
+    return int(np.sum(~(np.abs(distances - expected) <= tolerance)))
+
+
+def oracle_sides(vertices, triangles, points, band):
+    """1 inside, 0 outside by the winding number (tests/python/oracle.py), NaN for a point the
+    winding number does not decide or that lies within compute_occupancy's band of the
+    surface (2^-17 of the box's largest coordinate: either answer is right there)."""
+    sides = []
+    step = max(1, int(4e6 // len(triangles)))  # the winding number holds points x triangles
+    for start in range(0, len(points), step):
+        chunk = points[start:start + step]
+        w = np.abs(oracle.winding_numbers(vertices, triangles, chunk))
+        d, _ = oracle.point_distances(vertices, triangles, chunk)
+        side = np.where(np.abs(w - 1) < 1e-3, 1.0, np.where(w < 1e-3, 0.0, np.nan))
+        sides.append(np.where(d > band, side, np.nan))
+    return np.concatenate(sides)
+
+
+def machine(splitgrid):
+    """Where the run ran, for the results' "machine"."""
+    return {"cpu": platform.processor() or platform.machine(),
+            "hardware_threads": os.cpu_count(), "kernel_isa": splitgrid.kernel_isa(),
+            "python": platform.python_version(), "numpy": np.__version__}
+
+
+def rate(work, count, repeats):
+    return count / median_seconds(work, repeats)
+
+
+def measure_points_scene(args, scene_path, folder, splitgrid, open3d):
+    """compute_distance and compute_occupancy of the splitgrid package and Open3D on the points
+    sg-bench measured its Split Grid and CGAL on (sg-bench --save-points), every answer checked
+    against the oracle before it is timed."""
+    name = scene_path.stem
+    tools = pathlib.Path(args.build) / "apps"
+    points_dir = folder / f"{name}_points"
+    bench_dir = folder / f"{name}_bench"
+    points_dir.mkdir(exist_ok=True)
+    print(f"{name}: sg-bench (Split Grid and CGAL)", file=sys.stderr)
+    run(tools / "sg-bench", scene_path, "-o", bench_dir, "--structures", "splitgrid",
+        "--threads", ",".join(map(str, args.threads)), "--count-rays", 0,
+        "--occupancy-points", args.occupancy_points, "--closest-points", args.distance_points,
+        "--inside-vertices", 0, "--save-points", points_dir, "--seed", args.seed,
+        "--trace-repeats", args.repeats, "--build-repeats", 1, "--incoherent-rays", 1000,
+        "--width", 32, "--height", 24, "--bounces", 0, "--watertight-rays", 0, "--no-sweep",
+        "--no-charts", "-q")
+    bench = json.loads((bench_dir / "results.json").read_text())
+    scene = bench["scenes"][0]
+    grid = splitgrid.load(points_dir / f"{name}.sg")
+    vertices, triangles = grid.vertices, grid.triangles.astype(np.int64)
+    magnitude = float(np.abs(vertices).max())
+    band = 2.0 ** -17 * magnitude
+    result = {"scene": name, "source": str(scene_path.relative_to(args.meshes)),
+              "triangles": len(triangles), "closed": scene["edges"]["closed"],
+              "cgal_version": bench["cgal_version"], "sets": []}
+    o3d_scene = open3d.t.geometry.RaycastingScene()
+    o3d_scene.add_triangles(open3d.core.Tensor(np.ascontiguousarray(vertices)),
+                            open3d.core.Tensor(np.ascontiguousarray(grid.triangles)))
+    sample_size = int(min(args.oracle_rays, max(20, POINT_ORACLE_PAIRS / len(triangles))))
+    for point_set in ("random", "near"):
+        points = read_point_file(points_dir / f"{name}.{point_set}.points")
+        entry = {"points": point_set, "distance_points": args.distance_points,
+                 "occupancy_points": args.occupancy_points, "oracle_points": sample_size}
+        for query in ("closest", "occupancy"):
+            w = next(w for w in scene["point_workloads"]
+                     if w["query"] == query and w["points"] == point_set)
+            for m in w["methods"]:
+                entry[f"sg_bench_{m['method']}_{query}"] = {
+                    "status": m["status"], "points_per_s": m["queries_per_s"]}
+        print(f"{name}, {point_set}: checking", file=sys.stderr)
+        near = np.ascontiguousarray(points[:args.distance_points])
+        sample = np.linspace(0, len(near) - 1, sample_size).astype(np.int64)
+        expected, _ = oracle.point_distances(vertices, triangles, near[sample])
+        tensor = open3d.core.Tensor(near)
+        entry["python_distance_wrong"] = wrong_distances(grid.compute_distance(near)[sample],
+                                                         expected, magnitude)
+        entry["open3d_distance_wrong"] = wrong_distances(
+            o3d_scene.compute_distance(tensor).numpy()[sample], expected, magnitude)
+        inside = np.ascontiguousarray(points[:args.occupancy_points])
+        occupancy_sample = np.linspace(0, len(inside) - 1, sample_size).astype(np.int64)
+        sides = oracle_sides(vertices, triangles, inside[occupancy_sample], band)
+        decided = ~np.isnan(sides)
+        entry["occupancy_oracle_decided"] = int(decided.sum())
+        entry["python_occupancy_wrong"] = int(np.sum(
+            grid.compute_occupancy(inside)[occupancy_sample][decided] != sides[decided]))
+        entry["open3d_occupancy_wrong"] = int(np.sum(
+            o3d_scene.compute_occupancy(open3d.core.Tensor(inside)).numpy()[occupancy_sample]
+            [decided] != sides[decided]))
+        print(f"{name}, {point_set}: timing", file=sys.stderr)
+        for t in args.threads:
+            key = str(t)
+            if entry["python_distance_wrong"] == 0:
+                entry.setdefault("python_distance", {})[key] = rate(
+                    lambda: grid.compute_distance(near, threads=t), len(near), args.repeats)
+            if entry["open3d_distance_wrong"] == 0:
+                entry.setdefault("open3d_distance", {})[key] = rate(
+                    lambda: o3d_scene.compute_distance(tensor, nthreads=t), len(near),
+                    args.repeats)
+            if entry["python_occupancy_wrong"] == 0:
+                entry.setdefault("python_occupancy", {})[key] = rate(
+                    lambda: grid.compute_occupancy(inside, threads=t), len(inside), args.repeats)
+        result["sets"].append(entry)
+    return result
+
+
+def measure_scenes(args, scenes, measure):
+    """`measure(path, work_folder)` of every scene file of `scenes` (relative to --meshes) that
+    is there, with a temporary folder under --out; returns --out, the results and the
+    seconds it took."""
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    results = []
+    start = time.time()
+    with tempfile.TemporaryDirectory(dir=out) as work:
+        for scene in scenes:
+            path = args.meshes / scene
+            if not path.is_file():
+                print(f"bench_python.py: {path} is absent, skipped", file=sys.stderr)
+                continue
+            results.append(measure(path, pathlib.Path(work)))
+    return out, results, time.time() - start
+
+
+def points_main(args, splitgrid, open3d):
+    out, results, seconds = measure_scenes(
+        args, args.scenes or POINT_SCENES,
+        lambda path, work: measure_points_scene(args, path, work, splitgrid, open3d))
+    document = {
+        "tool": "bench_python.py --points", "splitgrid_version": splitgrid.__version__,
+        "open3d_version": open3d.__version__,
+        "machine": machine(splitgrid),
+        "plan": {"distance_points": args.distance_points,
+                 "occupancy_points": args.occupancy_points, "repeats": args.repeats,
+                 "threads": args.threads, "seed": args.seed, "oracle_points": args.oracle_rays},
+        "run_seconds": seconds, "scenes": results}
+    (out / "points.json").write_text(json.dumps(document, indent=2) + "\n")
+    print(f"bench_python.py: wrote {out / 'points.json'}", file=sys.stderr)
+    if args.docs:
+        print(points_report(results, args.threads))
+
+
+def ratio_text(a, b):
+    return f"{a / b:.2f}x" if a and b and a == a and b == b else "-"
+
+
+def points_report(results, threads):
+    """The tables of docs/notebook/points.md: thousands of points per second, and the targets'
+    ratios at the median over the scenes."""
+    def k(value):
+        return f"{value / 1e3:,.1f}" if value == value else "-"
+
+    def bench(entry, method, query, t):
+        return entry.get(f"sg_bench_{method}_{query}", {}).get("points_per_s", {}).get(t, NAN)
+
+    distance_rows, occupancy_rows = [], []
+    ratios = {}
+    for r in results:
+        for e in r["sets"]:
+            for t in map(str, threads):
+                py = e.get("python_distance", {}).get(t, NAN)
+                o3d = e.get("open3d_distance", {}).get(t, NAN)
+                cgal = bench(e, "cgal", "closest", t)
+                cpp = bench(e, "splitgrid", "closest", t)
+                distance_rows.append([r["scene"], e["points"], t, k(py), k(o3d),
+                                      ratio_text(py, o3d), k(cpp), k(cgal),
+                                      ratio_text(py, cgal), ratio_text(cpp, cgal)])
+                pyo = e.get("python_occupancy", {}).get(t, NAN)
+                cppo = bench(e, "splitgrid", "occupancy", t)
+                cgalo = bench(e, "cgal", "occupancy", t)
+                occupancy_rows.append([r["scene"], e["points"], t, k(pyo), k(cppo), k(cgalo),
+                                       ratio_text(pyo, cgalo), ratio_text(cppo, cgalo),
+                                       f"wrong on {e['open3d_occupancy_wrong']} of "
+                                       f"{e['occupancy_oracle_decided']}"])
+                for key, a, b in (("distance: Python / Open3D", py, o3d),
+                                  ("distance: Python / CGAL", py, cgal),
+                                  ("distance: C++ / CGAL", cpp, cgal),
+                                  ("occupancy: Python / CGAL", pyo, cgalo),
+                                  ("occupancy: C++ / CGAL", cppo, cgalo)):
+                    if a == a and b == b and a and b:
+                        ratios.setdefault((key, e["points"], t), {})[r["scene"]] = a / b
+    checks = [[r["scene"], e["points"],
+               f"{e['python_distance_wrong']} / {e['open3d_distance_wrong']} of "
+               f"{e['oracle_points']}",
+               f"{e['python_occupancy_wrong']} / {e['open3d_occupancy_wrong']} of "
+               f"{e['occupancy_oracle_decided']}"]
+              for r in results for e in r["sets"]]
+    summary = [[key, points, t, f"{statistics.median(v.values()):.2f}x",
+                f"{min(v.values()):.2f}-{max(v.values()):.2f}", str(len(v))]
+               for (key, points, t), v in sorted(ratios.items())]
+    return "\n\n".join([
+        markdown(["scene", "points", "threads", "Python compute_distance",
+                  "Open3D compute_distance", "Python / Open3D", "C++ closest_points",
+                  "CGAL AABB tree", "Python / CGAL", "C++ / CGAL"], distance_rows),
+        markdown(["scene", "points", "threads", "Python compute_occupancy",
+                  "C++ compute_occupancy", "CGAL Side_of_triangle_mesh", "Python / CGAL",
+                  "C++ / CGAL", "Open3D compute_occupancy"], occupancy_rows),
+        markdown(["scene", "points", "wrong distances: Python / Open3D (oracle sample)",
+                  "wrong sides: Python / Open3D (decided sample)"], checks),
+        markdown(["ratio", "points", "threads", "median over scenes", "range", "scenes"],
+                 summary)])
+
+
 # ----- Report.
 
 NAN = float("nan")
@@ -433,8 +659,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--meshes", default=str(ROOT.parent / "shared" / "meshes"),
                         help="folder of the shared scenes (default ../shared/meshes)")
-    parser.add_argument("--scenes", nargs="*", default=DEFAULT_SCENES,
-                        help="scene files relative to --meshes (default: every scene)")
+    parser.add_argument("--scenes", nargs="*",
+                        help="scene files relative to --meshes (default: every scene; with "
+                             "--points the closed scans)")
     parser.add_argument("--build", default=str(ROOT / "build"), help="the build folder")
     parser.add_argument("--out", default=str(ROOT / "build" / "bench-python"),
                         help="folder for results.json and the intermediate files")
@@ -450,11 +677,24 @@ def main():
     parser.add_argument("--docs", action="store_true",
                         help="print the Markdown tables and write docs/images/python_bench.png")
     parser.add_argument("--report", metavar="RESULTS_JSON",
-                        help="measure nothing: the tables and chart of an earlier results.json")
+                        help="measure nothing: the tables and chart of an earlier results.json "
+                             "(or, with --points, the tables of an earlier points.json)")
+    parser.add_argument("--points", action="store_true",
+                        help="measure the point queries instead: compute_distance and "
+                             "compute_occupancy against Open3D and (through sg-bench, built with "
+                             "SG_WITH_CGAL, on the same points) CGAL, on the closed scenes; "
+                             "writes points.json to --out")
+    parser.add_argument("--distance-points", type=int, default=20_000,
+                        help="with --points: points per set for compute_distance")
+    parser.add_argument("--occupancy-points", type=int, default=200_000,
+                        help="with --points: points per set for compute_occupancy")
     args = parser.parse_args()
     if args.report:
         document = json.loads(pathlib.Path(args.report).read_text())
-        report(document["scenes"], document["plan"]["threads"])
+        if args.points:
+            print(points_report(document["scenes"], document["plan"]["threads"]))
+        else:
+            report(document["scenes"], document["plan"]["threads"])
         return
     args.threads = [int(t) for t in args.threads.split(",")]
     args.meshes = pathlib.Path(args.meshes)
@@ -469,27 +709,22 @@ def main():
         print("bench_python.py: open3d not installed (python3-open3d): not measured",
               file=sys.stderr)
 
-    out = pathlib.Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    results = []
-    start = time.time()
-    with tempfile.TemporaryDirectory(dir=out) as work:
-        for scene in args.scenes:
-            path = args.meshes / scene
-            if not path.is_file():
-                print(f"bench_python.py: {path} is absent, skipped", file=sys.stderr)
-                continue
-            results.append(measure_scene(args, path, pathlib.Path(work), splitgrid, open3d))
+    if args.points:
+        if open3d is None:
+            sys.exit("bench_python.py: --points needs open3d (python3-open3d)")
+        points_main(args, splitgrid, open3d)
+        return
+    out, results, seconds = measure_scenes(
+        args, args.scenes or DEFAULT_SCENES,
+        lambda path, work: measure_scene(args, path, work, splitgrid, open3d))
     document = {
         "tool": "bench_python.py", "splitgrid_version": splitgrid.__version__,
         "open3d_version": open3d.__version__ if open3d else "",
-        "machine": {"cpu": platform.processor() or platform.machine(),
-                    "hardware_threads": os.cpu_count(), "kernel_isa": splitgrid.kernel_isa(),
-                    "python": platform.python_version(), "numpy": np.__version__},
+        "machine": machine(splitgrid),
         "plan": {"rays": args.rays, "repeats": args.repeats, "threads": args.threads,
                  "seed": args.seed, "camera": list(CAMERA), "oracle_rays": args.oracle_rays,
                  "counted_rays": args.counted},
-        "run_seconds": time.time() - start, "scenes": results}
+        "run_seconds": seconds, "scenes": results}
     (out / "results.json").write_text(json.dumps(document, indent=2) + "\n")
     print(f"bench_python.py: wrote {out / 'results.json'}", file=sys.stderr)
     if args.docs:

@@ -653,6 +653,8 @@ def main(argv):
                 a["mrays_per_s"]))
         w("")
 
+    point_section(w, r, charts, prefix)
+
     if r["sweep"]["points"]:
         w("## Split Grid parameter sweep on %s (%d threads)\n" % (r["sweep"]["scene"],
                                                                   r["sweep"]["threads"]))
@@ -687,6 +689,73 @@ def main(argv):
         dynamic_section(w, dynamic, charts, prefix)
     sys.stdout.write("\n".join(out) + "\n")
     return 0
+
+
+def point_section(w, r, charts, prefix):
+    """The point and multi-hit workloads (thousands of queries per second of every method on
+    one thread, or why it has none) and the inside tests' wrong answers (docs/BENCH.md)."""
+    scenes = [s for s in r["scenes"] if s.get("point_workloads")]
+    tests = r.get("inside_tests") or []
+    if not scenes and not tests:
+        return
+    t1 = str(r["plan"]["thread_counts"][0])
+    if scenes:
+        w("## Point and multi-hit workloads\n")
+        w("Thousands of queries per second on %s thread%s (median of passes), each method's "
+          "answers checked against brute force first (docs/BENCH.md); CGAL %s.\n"
+          % (t1, "" if t1 == "1" else "s", r.get("cgal_version") or "not in this build"))
+        methods = list(dict.fromkeys(m["method"] for s in scenes for x in s["point_workloads"]
+                                     for m in x["methods"]))
+        w("| scene | workload | " + " | ".join(label(m) for m in methods) + " |")
+        w("|---|---|" + "---:|" * len(methods))
+        for s in scenes:
+            for x in s["point_workloads"]:
+                cells = []
+                for name in methods:
+                    m = next((m for m in x["methods"] if m["method"] == name), None)
+                    if m is None:
+                        cells.append("-")
+                    elif m["queries_per_s"]:
+                        cells.append("%.1f" % (m["queries_per_s"][t1] / 1e3))
+                    else:
+                        cells.append("wrong" if m["status"] == "wrong" else "n/a")
+                w("| %s | %s %s | %s |" % (s["scene"], x["query"], x["points"],
+                                           " | ".join(cells)))
+        w("")
+        if os.path.exists(os.path.join(charts, "point_workloads.png")):
+            w("![point workloads](%spoint_workloads.png)\n" % prefix)
+    if tests:
+        w("## Inside tests\n")
+        w("Points whose rays meet edges and vertices: wrong answers against the oracle, and "
+          "thousands of points per second on one thread.\n")
+        methods = list(dict.fromkeys(m["method"] for t in tests for m in t["methods"]))
+        # Open3D's wrong answers, when scripts/bench_inside_open3d.py has run beside the charts.
+        open3d_file = os.path.join(charts, "inside_open3d.json")
+        open3d = {}
+        if os.path.exists(open3d_file):
+            with open(open3d_file) as f:
+                open3d = {e["set"]: e for e in json.load(f)["sets"]}
+        extra = ["Open3D compute_occupancy (not timed)"] if open3d else []
+        w("| set | points | inside | " + " | ".join([label(m) for m in methods] + extra) + " |")
+        w("|---|---:|---:|" + "---|" * (len(methods) + len(extra)))
+        for t in tests:
+            cells = []
+            for name in methods:
+                m = next((m for m in t["methods"] if m["method"] == name), None)
+                if m is None:
+                    cells.append("-")
+                elif m["status"] == "ok":
+                    cells.append("%d (%.0f)" % (m["wrong"], m["points_per_s"] / 1e3))
+                else:
+                    cells.append("n/a")
+            if open3d:
+                cells.append("%d" % open3d[t["set"]]["wrong_occupancy"] if t["set"] in open3d
+                             else "-")
+            w("| %s | %s | %s | %s |" % (t["set"], "{:,}".format(t["points"]),
+                                         "{:,}".format(t["inside"]), " | ".join(cells)))
+        w("")
+        if os.path.exists(os.path.join(charts, "inside_tests.png")):
+            w("![inside tests](%sinside_tests.png)\n" % prefix)
 
 
 if __name__ == "__main__":

@@ -206,8 +206,9 @@ void add_bench_options(CLI::App& app, BenchOptions& o)
                                "Passes per workload and thread count.");
     apps::add_count_option(app, "--oracle-rays", o.plan.oracle_rays, 0,
                                std::uint64_t{1} << 24,
-                               "Brute-force sample per workload (fewer on big scenes: at most "
-                               "4e8 ray/triangle tests per sample, at least 20 rays).");
+                               "Brute-force sample per workload, point workloads too (fewer on "
+                               "big scenes: at most 4e8 ray/triangle tests or 1e8 point/triangle "
+                               "pairs per sample, at least 20).");
     apps::add_count_option(app, "--watertight-triangles", o.plan.watertight_triangles, 100,
                                std::uint64_t{1} << 26,
                                "Triangles of the closed sphere of the watertightness workload.");
@@ -307,6 +308,7 @@ ResolvedOptions resolve_options(const CLI::App& app, BenchOptions& o)
     r.plan = o.plan;
     BenchPlan& plan = r.plan;
     plan.sweep = !o.no_sweep;
+    plan.points.oracle_points = plan.oracle_rays;
     plan.structures = structures_of(o.structures_text, structure_names(), "--structures");
     plan.thread_counts = thread_counts_of(o.threads_text);
     plan.scale_sizes = counts_of(o.scale_sizes_text, "--scale-sizes");

@@ -297,15 +297,16 @@ public:
             }
             result.structures.push_back(std::move(sr));
         }
+        const bool inside_test = plan_.points.inside_vertices > 0 &&
+                                 (points ? points->edges() : edge_report(mesh)).is_closed();
         std::unique_ptr<CgalPeer> cgal;
-        if (points && has_cgal()) {
+        if (has_cgal() && (points || inside_test)) {
             say(scene.name + ": building CGAL's Surface_mesh and trees");
             cgal = timed_cgal_build(mesh, plan_.build_repeats, result.cgal);
-            points->measure("cgal", *cgal);
+            if (points) points->measure("cgal", *cgal);
         }
         if (points) result.point_workloads = points->results();
-        const bool closed = (points ? points->edges() : edge_report(mesh)).is_closed();
-        if (plan_.points.inside_vertices > 0 && closed) {
+        if (inside_test) {
             say(scene.name + ": inside test near " + std::to_string(plan_.points.inside_vertices) +
                 " vertices");
             const InsideSet set = near_vertex_set(mesh, scene.name, plan_.points.inside_vertices);

@@ -4,6 +4,8 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include <algorithm>
+
 namespace sg::bench {
 namespace {
 
@@ -132,13 +134,17 @@ std::string point_tables(const BenchResults& results, const BenchPlan& plan)
     if (!results.inside_tests.empty()) {
         out +=
             "\ninside tests: wrong answers against the oracle (thousands of points/s, 1 thread)\n";
-        out += fmt::format("  {:<34} {:>7} {:>7} {:>9}", "set", "points", "inside", "undecided");
+        std::size_t width = 3;
+        for (const InsideTestResult& t : results.inside_tests)
+            width = std::max(width, t.set.size());
+        out += fmt::format("  {:<{}} {:>7} {:>7} {:>9}", "set", width, "points", "inside",
+                           "undecided");
         for (const InsideMethodResult& m : results.inside_tests.front().methods)
             out += fmt::format(" {:>24}", m.method);
         out += "\n";
         for (const InsideTestResult& t : results.inside_tests) {
-            out +=
-                fmt::format("  {:<34} {:>7} {:>7} {:>9}", t.set, t.points, t.inside, t.undecided);
+            out += fmt::format("  {:<{}} {:>7} {:>7} {:>9}", t.set, width, t.points, t.inside,
+                               t.undecided);
             for (const InsideMethodResult& m : t.methods)
                 out += fmt::format(" {:>24}", m.status == "ok" ? fmt::format("{} ({:.0f})", m.wrong,
                                                                              m.points_per_s * 1e-3)

@@ -46,9 +46,10 @@ def shared_mesh(relative):
 
 
 def tool(name):
-    """Path of a command-line tool (sg-build, sg-stats, sg-trace), or skip without it."""
+    """Path of a command-line tool (sg-build, sg-stats, sg-trace, sg-bench), or skip without
+    it."""
     variable = {"sg-build": "SG_BUILD_EXE", "sg-stats": "SG_STATS_EXE",
-                "sg-trace": "SG_TRACE_EXE"}[name]
+                "sg-trace": "SG_TRACE_EXE", "sg-bench": "SG_BENCH_EXE"}[name]
     path = os.environ.get(variable, "")
     if not path or not os.path.isfile(path):
         pytest.skip(f"{name} is not built ({variable} unset)")
